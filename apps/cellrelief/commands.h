@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+/// @file commands.h
+/// The subcommands of the `cellrelief` program. Each registers its options on the CLI11 app and
+/// returns the function that runs it; errors propagate as cellrelief::Error to main(), which prints
+/// them and exits non-zero.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace cellrelief::app {
+
+/// A registered subcommand and what runs it once parsed.
+struct Command {
+  CLI::App* cli = nullptr;
+  std::function<int()> run;
+};
+
+Command addInfoCommand(CLI::App& app);
+Command addDemoCommand(CLI::App& app);
+
+/// Prints the `info` report of a mesh file (also used by `demo`).
+void printMeshInfo(const std::string& path);
+
+/// A byte count as "1.23 MiB".
+std::string formatBytes(double bytes);
+
+}  // namespace cellrelief::app

@@ -1,0 +1,223 @@
+// SPDX-License-Identifier: MIT
+/// @file ply_scan.h
+/// A PLY structure scanner that runs next to OpenMesh's PLY reader. OpenMesh reads vertices and
+/// faces; this walks every element of the body to (a) find truncation, which OpenMesh reports for
+/// some elements and not others, and (b) decode `tristrips` elements, which OpenMesh does not know
+/// (the Igea model is stored as one strip with -1 restarts).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/core/math.h"
+
+namespace cellrelief::io::detail {
+
+enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+struct PlyProperty {
+  std::string name;
+  int size = 0;          // bytes of the value type (of the items, for lists)
+  bool isFloat = false;  // float or double
+  bool isSigned = false;
+  bool isList = false;
+  int countSize = 0;     // bytes of the list count type
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+struct PlyScan {
+  PlyFormat format = PlyFormat::Ascii;
+  std::vector<PlyElement> elements;
+  std::vector<Vec3u> stripTriangles;  // triangles decoded from tristrips elements
+  bool hasStrips = false;
+};
+
+inline int plyTypeSize(const std::string& t, bool& isFloat, bool& isSigned) {
+  isFloat = (t == "float" || t == "float32" || t == "double" || t == "float64");
+  isSigned = isFloat || t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" ||
+             t == "int32";
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" ||
+      t == "float32")
+    return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+/// Appends the triangles of one strip; odd triangles are flipped to keep the winding, and the
+/// degenerate triangles that stitch strips together are dropped.
+inline void appendStrip(const std::vector<std::int64_t>& strip, std::vector<Vec3u>& out) {
+  for (std::size_t i = 2; i < strip.size(); ++i) {
+    std::int64_t a = strip[i - 2], b = strip[i - 1], c = strip[i];
+    if (i % 2 == 1) std::swap(a, b);
+    if (a == b || b == c || a == c) continue;
+    out.push_back(Vec3u(std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)));
+  }
+}
+
+class PlyBodyReader {
+ public:
+  PlyBodyReader(std::istream& in, PlyFormat format) : mIn(in), mFormat(format) {}
+
+  /// Reads one value; returns false at end of file (truncation).
+  bool read(int size, bool isFloat, bool isSigned, double& value) {
+    if (mFormat == PlyFormat::Ascii) {
+      std::string token;
+      if (!(mIn >> token)) return false;
+      char* end = nullptr;
+      value = std::strtod(token.c_str(), &end);
+      if (end == token.c_str()) throw std::runtime_error("'" + token + "' is not a number");
+      return true;
+    }
+    unsigned char bytes[8];
+    if (!mIn.read(reinterpret_cast<char*>(bytes), size)) return false;
+    if (mFormat == PlyFormat::BinaryBigEndian) std::reverse(bytes, bytes + size);
+    value = decode(bytes, size, isFloat, isSigned);
+    return true;
+  }
+
+ private:
+  static double decode(const unsigned char* b, int size, bool isFloat, bool isSigned) {
+    if (isFloat) {
+      if (size == 4) {
+        float f;
+        std::memcpy(&f, b, 4);
+        return f;
+      }
+      double d;
+      std::memcpy(&d, b, 8);
+      return d;
+    }
+    std::uint64_t u = 0;
+    std::memcpy(&u, b, size);  // little-endian host (x86_64, aarch64)
+    if (isSigned) {
+      const int shift = 64 - 8 * size;
+      return double(std::int64_t(u << shift) >> shift);
+    }
+    return double(u);
+  }
+
+  std::istream& mIn;
+  PlyFormat mFormat;
+};
+
+/// Parses the header and walks the body. Throws Error(FileFormat) naming the file and the problem.
+inline PlyScan scanPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  auto fail = [&](const std::string& problem) {
+    throw Error(ErrorKind::FileFormat, path, problem);
+  };
+  std::string line;
+  if (!std::getline(in, line) || (line != "ply" && line != "ply\r"))
+    fail("not a PLY file (the first line is not 'ply')");
+  PlyScan scan;
+  bool haveFormat = false, ended = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "format") {
+      std::string f;
+      ls >> f;
+      if (f == "ascii") scan.format = PlyFormat::Ascii;
+      else if (f == "binary_little_endian") scan.format = PlyFormat::BinaryLittleEndian;
+      else if (f == "binary_big_endian") scan.format = PlyFormat::BinaryBigEndian;
+      else fail("unknown PLY format '" + f + "'");
+      haveFormat = true;
+    } else if (key == "element") {
+      PlyElement e;
+      long long count = -1;
+      ls >> e.name >> count;
+      if (e.name.empty() || count < 0) fail("malformed element line '" + line + "'");
+      e.count = std::uint64_t(count);
+      scan.elements.push_back(e);
+    } else if (key == "property") {
+      if (scan.elements.empty()) fail("property before any element: '" + line + "'");
+      PlyProperty p;
+      std::string type;
+      ls >> type;
+      if (type == "list") {
+        std::string countType, itemType;
+        ls >> countType >> itemType >> p.name;
+        bool f, s;
+        p.isList = true;
+        p.countSize = plyTypeSize(countType, f, s);
+        p.size = plyTypeSize(itemType, p.isFloat, p.isSigned);
+        if (p.countSize == 0 || p.size == 0 || f) fail("unknown list types in '" + line + "'");
+      } else {
+        ls >> p.name;
+        p.size = plyTypeSize(type, p.isFloat, p.isSigned);
+        if (p.size == 0) fail("unknown property type '" + type + "'");
+      }
+      scan.elements.back().properties.push_back(p);
+    } else if (key == "end_header") {
+      ended = true;
+      break;
+    } else if (key != "comment" && key != "obj_info" && !key.empty()) {
+      fail("unexpected header line '" + line + "'");
+    }
+  }
+  if (!haveFormat) fail("PLY header has no format line");
+  if (!ended) fail("PLY header has no end_header (file truncated or not PLY)");
+
+  PlyBodyReader body(in, scan.format);
+  for (const PlyElement& e : scan.elements) {
+    const bool strips = (e.name == "tristrips");
+    scan.hasStrips = scan.hasStrips || strips;
+    std::vector<std::int64_t> strip;
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      for (const PlyProperty& p : e.properties) {
+        double v = 0;
+        auto truncated = [&]() {
+          fail("file ends early: element '" + e.name + "' " + std::to_string(i) + " of " +
+               std::to_string(e.count) + " is incomplete (truncated file)");
+        };
+        try {
+          if (!p.isList) {
+            if (!body.read(p.size, p.isFloat, p.isSigned, v)) truncated();
+            continue;
+          }
+          if (!body.read(p.countSize, false, false, v)) truncated();
+          if (v < 0 || v > 1e9) fail("element '" + e.name + "' has a list of " +
+                                     std::to_string(v) + " items");
+          const auto n = static_cast<std::uint64_t>(v);
+          const bool keep = strips && p.name == "vertex_indices";
+          for (std::uint64_t k = 0; k < n; ++k) {
+            if (!body.read(p.size, p.isFloat, p.isSigned, v)) truncated();
+            if (!keep) continue;
+            if (v < 0) {  // -1 restarts the strip
+              appendStrip(strip, scan.stripTriangles);
+              strip.clear();
+            } else {
+              strip.push_back(static_cast<std::int64_t>(v));
+            }
+          }
+          if (keep) {
+            appendStrip(strip, scan.stripTriangles);
+            strip.clear();
+          }
+        } catch (const std::runtime_error& ex) {
+          if (dynamic_cast<const Error*>(&ex)) throw;
+          fail(std::string("element '") + e.name + "': " + ex.what());
+        }
+      }
+    }
+  }
+  return scan;
+}
+
+}  // namespace cellrelief::io::detail

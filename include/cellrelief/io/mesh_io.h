@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+/// @file mesh_io.h
+/// Reading and writing triangle meshes: OBJ, PLY (ASCII and binary, including triangle strips), OFF
+/// and STL (ASCII and binary), through OpenMesh's parsers and writers.
+///
+/// OpenMesh parses; cellrelief keeps what it parsed as a soup (detail/openmesh_importer.h), so that
+/// non-manifold and multi-component meshes load unchanged. Polygons are fan-triangulated. Before
+/// OpenMesh runs, structure checks (detail/format_checks.h, detail/ply_scan.h) catch what its
+/// readers pass over silently. Every failure is an Error naming the file and the problem.
+#pragma once
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/core/triangle_mesh.h"
+#include "cellrelief/io/atomic_file.h"
+#include "cellrelief/io/detail/format_checks.h"
+#include "cellrelief/io/detail/openmesh_exporter.h"
+#include "cellrelief/io/detail/openmesh_importer.h"
+#include "cellrelief/io/detail/ply_scan.h"
+
+namespace cellrelief::io {
+
+struct MeshReadOptions {
+  bool normals = true;  ///< keep per-vertex normals when the file has them
+  bool colors = true;   ///< keep per-vertex colors when the file has them
+  bool uvs = true;      ///< keep texture coordinates when the file has them
+};
+
+struct MeshWriteOptions {
+  bool binary = true;  ///< binary PLY/STL; OBJ and OFF are always text
+};
+
+inline const std::vector<std::string>& meshExtensions() {
+  static const std::vector<std::string> kExtensions{".obj", ".ply", ".off", ".stl"};
+  return kExtensions;
+}
+
+/// Lower-case extension with its dot (".ply").
+inline std::string lowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+inline bool isMeshFile(const std::filesystem::path& path) {
+  const std::string ext = lowerExtension(path);
+  return std::find(meshExtensions().begin(), meshExtensions().end(), ext) != meshExtensions().end();
+}
+
+namespace detail {
+
+/// OpenMesh reports problems on its global error stream; route them into a string for the duration
+/// of one call (the mutex also serializes OpenMesh's IOManager, which is not thread-safe).
+class CaptureOpenMeshErrors {
+ public:
+  CaptureOpenMeshErrors() : mLock(mutex()) {
+    ::omerr().disconnect(std::cerr);
+    ::omerr().connect(mCaptured);
+    ::omlog().disable();
+  }
+  ~CaptureOpenMeshErrors() {
+    ::omerr().flush();
+    ::omerr().disconnect(mCaptured);
+    ::omerr().connect(std::cerr);
+    ::omlog().enable();
+  }
+  std::string text() {
+    ::omerr().flush();
+    std::string s = mCaptured.str();
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+  }
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> mLock;
+  std::ostringstream mCaptured;
+};
+
+inline void checkReadable(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw Error(ErrorKind::FileNotFound, path, "no such file");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw Error(ErrorKind::FileNotFound, path, "not a regular file");
+  if (std::filesystem::file_size(path, ec) == 0)
+    throw Error(ErrorKind::FileFormat, path, "file is empty");
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) throw Error(ErrorKind::FileNotFound, path, "cannot open for reading");
+}
+
+/// Fan-triangulates the soup's polygons and moves its attributes into a TriangleMesh.
+inline TriangleMesh toTriangleMesh(PolygonSoup& soup, const MeshReadOptions& options) {
+  TriangleMesh mesh;
+  mesh.positions = std::move(soup.positions);
+  if (options.normals && soup.hasNormals) mesh.normals = std::move(soup.normals);
+  if (options.colors && soup.hasColors) mesh.colors = std::move(soup.colors);
+  const bool cornerUVs = options.uvs && soup.hasCornerUVs;
+  const bool vertexUVs = options.uvs && !cornerUVs && soup.hasVertexUVs;
+  mesh.sourcePolygons = soup.polygonCount();
+  mesh.triangles.reserve(soup.corners.size());
+  for (std::size_t p = 0; p < soup.polygonCount(); ++p) {
+    const std::uint32_t begin = soup.offsets[p], end = soup.offsets[p + 1];
+    for (std::uint32_t k = begin + 1; k + 1 < end; ++k) {
+      mesh.triangles.push_back({soup.corners[begin], soup.corners[k], soup.corners[k + 1]});
+      if (cornerUVs)
+        mesh.uvs.insert(mesh.uvs.end(),
+                        {soup.cornerUVs[begin], soup.cornerUVs[k], soup.cornerUVs[k + 1]});
+    }
+  }
+  if (vertexUVs) {
+    mesh.uvs.reserve(3 * mesh.triangles.size());
+    for (const Vec3u& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k)
+        mesh.uvs.push_back(t[k] < soup.vertexUVs.size() ? soup.vertexUVs[t[k]] : Vec2f(0));
+  }
+  return mesh;
+}
+
+}  // namespace detail
+
+/// Reads a mesh. Throws Error (FileNotFound, FileFormat, InvalidInput, Unsupported) whose message
+/// starts with the path; never returns a mesh without triangles or with bad indices or coordinates.
+inline TriangleMesh readMesh(const std::filesystem::path& path, const MeshReadOptions& options = {}) {
+  detail::checkReadable(path);
+  const std::string ext = lowerExtension(path);
+  if (!isMeshFile(path))
+    throw Error(ErrorKind::Unsupported, path,
+                "unsupported mesh format '" + ext + "' (supported: .obj .ply .off .stl)");
+
+  detail::PlyScan ply;
+  if (ext == ".ply") ply = detail::scanPly(path.string());
+  else if (ext == ".off") detail::checkOff(path);
+  else if (ext == ".stl") detail::checkStl(path);
+  else if (ext == ".obj") detail::checkObj(path);
+
+  detail::PolygonSoup soup;
+  {
+    detail::SoupImporter importer(soup);
+    using Opt = OpenMesh::IO::Options;
+    Opt opt(Opt::VertexNormal | Opt::VertexColor | Opt::VertexTexCoord | Opt::FaceTexCoord);
+    detail::CaptureOpenMeshErrors capture;
+    const bool ok = OpenMesh::IO::IOManager().read(path.string(), importer, opt);
+    if (!ok) {
+      const std::string why = capture.text();
+      throw Error(ErrorKind::FileFormat, path,
+                  "OpenMesh could not parse the file" + (why.empty() ? "" : ": " + why));
+    }
+  }
+  TriangleMesh mesh = detail::toTriangleMesh(soup, options);
+  if (ply.hasStrips) {
+    mesh.triangles.insert(mesh.triangles.end(), ply.stripTriangles.begin(),
+                          ply.stripTriangles.end());
+    mesh.sourcePolygons += ply.stripTriangles.size();
+    mesh.uvs.clear();  // strips carry no UVs; per-corner UVs of other faces would no longer match
+  }
+  if (mesh.positions.empty())
+    throw Error(ErrorKind::InvalidInput, path, "no vertices (not a " + ext + " mesh, or empty)");
+  if (mesh.triangles.empty())
+    throw Error(ErrorKind::InvalidInput, path,
+                "no faces: " + std::to_string(mesh.positions.size()) +
+                    " vertices but nothing to triangulate (a point cloud is not a surface)");
+  mesh.validate(path.string());
+  return mesh;
+}
+
+/// Writes a mesh through OpenMesh (format from the extension), atomically: on failure the target is
+/// untouched and no temporary file is left behind.
+inline void writeMesh(const TriangleMesh& mesh, const std::filesystem::path& path,
+                      const MeshWriteOptions& options = {}) {
+  if (!isMeshFile(path))
+    throw Error(ErrorKind::Unsupported, path,
+                "unsupported mesh format '" + lowerExtension(path) +
+                    "' (supported: .obj .ply .off .stl)");
+  mesh.validate(path.string());
+  AtomicFile file(path);
+  detail::SoupExporter exporter(mesh);
+  using Opt = OpenMesh::IO::Options;
+  Opt opt;
+  if (options.binary) opt += Opt::Binary;
+  if (mesh.hasNormals()) opt += Opt::VertexNormal;
+  if (mesh.hasColors()) opt += Opt::VertexColor;
+  {
+    detail::CaptureOpenMeshErrors capture;
+    if (!OpenMesh::IO::IOManager().write(file.temporaryPath().string(), exporter, opt)) {
+      const std::string why = capture.text();
+      throw Error(ErrorKind::FileWrite, path,
+                  "OpenMesh could not write the file" + (why.empty() ? "" : ": " + why));
+    }
+  }
+  file.commit();
+}
+
+}  // namespace cellrelief::io
