@@ -21,5 +21,5 @@ endfunction()
 
 # Warnings for the project's own programs and tests (not forced on users of the headers).
 function(cellrelief_warnings target)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wno-dangling-else)
 endfunction()

@@ -97,9 +97,7 @@ Command addInfoCommand(CLI::App& app) {
   cmd->add_option("file", *path, "Mesh (.obj .ply .off .stl) or image (.png .jpg .tga .bmp)")
       ->required();
   return {cmd, [path]() {
-            const std::string ext = io::lowerExtension(*path);
-            const auto& images = io::imageExtensions();
-            if (std::find(images.begin(), images.end(), ext) != images.end())
+            if (io::isImageFile(*path))
               printImageInfo(*path);
             else
               printMeshInfo(*path);

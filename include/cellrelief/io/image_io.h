@@ -5,6 +5,7 @@
 /// distance maps and relief maps need 16 bits, hence libpng for writing.
 #pragma once
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include "cellrelief/core/image.h"
 #include "cellrelief/io/atomic_file.h"
 #include "cellrelief/io/detail/bmp_rle.h"
+#include "cellrelief/io/paths.h"
 
 namespace cellrelief::io {
 
@@ -55,6 +57,12 @@ struct ImageFile {
 inline const std::vector<std::string>& imageExtensions() {
   static const std::vector<std::string> kExtensions{".png", ".jpg", ".jpeg", ".tga", ".bmp"};
   return kExtensions;
+}
+
+inline bool isImageFile(const std::filesystem::path& path) {
+  const std::string ext = lowerExtension(path);
+  return std::find(imageExtensions().begin(), imageExtensions().end(), ext) !=
+         imageExtensions().end();
 }
 
 namespace detail {

@@ -29,6 +29,7 @@
 #include "cellrelief/io/detail/openmesh_exporter.h"
 #include "cellrelief/io/detail/openmesh_importer.h"
 #include "cellrelief/io/detail/ply_scan.h"
+#include "cellrelief/io/paths.h"
 
 namespace cellrelief::io {
 
@@ -45,14 +46,6 @@ struct MeshWriteOptions {
 inline const std::vector<std::string>& meshExtensions() {
   static const std::vector<std::string> kExtensions{".obj", ".ply", ".off", ".stl"};
   return kExtensions;
-}
-
-/// Lower-case extension with its dot (".ply").
-inline std::string lowerExtension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 inline bool isMeshFile(const std::filesystem::path& path) {
@@ -193,10 +186,12 @@ inline void writeMesh(const TriangleMesh& mesh, const std::filesystem::path& pat
   AtomicFile file(path);
   detail::SoupExporter exporter(mesh);
   using Opt = OpenMesh::IO::Options;
+  // Ask each writer only for what its format stores (OpenMesh refuses a write otherwise).
+  const std::string ext = lowerExtension(path);
   Opt opt;
-  if (options.binary) opt += Opt::Binary;
-  if (mesh.hasNormals()) opt += Opt::VertexNormal;
-  if (mesh.hasColors()) opt += Opt::VertexColor;
+  if (options.binary && (ext == ".ply" || ext == ".stl")) opt += Opt::Binary;
+  if (mesh.hasNormals() && ext != ".stl") opt += Opt::VertexNormal;
+  if (mesh.hasColors() && (ext == ".ply" || ext == ".off")) opt += Opt::VertexColor;
   {
     detail::CaptureOpenMeshErrors capture;
     if (!OpenMesh::IO::IOManager().write(file.temporaryPath().string(), exporter, opt)) {

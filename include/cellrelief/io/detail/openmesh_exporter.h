@@ -81,8 +81,14 @@ class SoupExporter final : public OpenMesh::IO::BaseExporter {
   }
   HalfedgeHandle getHeh(FaceHandle, VertexHandle) const override { return HalfedgeHandle(); }
   unsigned int get_face_texcoords(std::vector<Vec2f>&) const override { return 0; }
-  Vec3f normal(FaceHandle) const override { return {0, 0, 0}; }
-  Vec3d normald(FaceHandle) const override { return {0, 0, 0}; }
+  Vec3f normal(FaceHandle f) const override {  // STL stores a normal per facet
+    const Vec3u& t = mMesh.triangles[f.idx()];
+    const cellrelief::Vec3f n = glm::cross(mMesh.positions[t[1]] - mMesh.positions[t[0]],
+                                           mMesh.positions[t[2]] - mMesh.positions[t[0]]);
+    const float len = glm::length(n);
+    return len > 0 ? Vec3f(n.x / len, n.y / len, n.z / len) : Vec3f(0, 0, 0);
+  }
+  Vec3d normald(FaceHandle f) const override { return Vec3d(normal(f)); }
   Vec3uc color(FaceHandle) const override { return {0, 0, 0}; }
   Vec4uc colorA(FaceHandle) const override { return {0, 0, 0, 0}; }
   Vec3ui colori(FaceHandle) const override { return {0, 0, 0}; }
@@ -110,6 +116,7 @@ class SoupExporter final : public OpenMesh::IO::BaseExporter {
   bool is_triangle_mesh() const override { return true; }
   bool has_vertex_normals() const override { return mMesh.hasNormals(); }
   bool has_vertex_colors() const override { return mMesh.hasColors(); }
+  bool has_face_normals() const override { return true; }
   // OpenMesh's PLY writer looks up custom properties on the kernel unconditionally: give it one
   // that has none.
   const OpenMesh::BaseKernel* kernel() override { return &mNoProperties; }

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// The `cellrelief` program as a user runs it: exit codes, messages on bad input, help, version.
+#include <array>
+#include <cstdio>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+namespace cellrelief {
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  Result r;
+  const std::string command = std::string(CELLRELIEF_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+TEST(Cli, VersionAndHelpAtEveryLevel) {
+  const Result version = run("--version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_NE(version.output.find("cellrelief 0."), std::string::npos) << version.output;
+  for (const char* level : {"", "info ", "demo "}) {
+    const Result help = run(std::string(level) + "--help");
+    EXPECT_EQ(help.status, 0) << level;
+    EXPECT_NE(help.output.find("Usage"), std::string::npos) << help.output;
+  }
+  EXPECT_NE(run("").status, 0);  // a subcommand is required
+  const Result unknown = run("frobnicate");
+  EXPECT_NE(unknown.status, 0);
+}
+
+TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
+  test::TempDir dir;
+  test::writeBytes(dir / "empty.ply", "");
+  test::writeBytes(dir / "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::writeBytes(dir / "oor.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n");
+  test::writeBytes(dir / "points.obj", "v 0 0 0\nv 1 0 0\n");
+  test::writeBytes(dir / "garbage.png", std::string(300, '?'));
+  const std::pair<std::string, std::string> cases[] = {
+      {"absent.obj", "no such file"},      {"empty.ply", "file is empty"},
+      {"nan.obj", "not a finite number"},  {"oor.off", "refers to vertex 5"},
+      {"points.obj", "no faces"},          {"garbage.png", "not a readable"}};
+  for (const auto& [file, words] : cases) {
+    const Result r = run("info " + (dir / file).string());
+    EXPECT_EQ(r.status, 1) << file << ": " << r.output;
+    EXPECT_NE(r.output.find((dir / file).string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
+  }
+}
+
+TEST(Cli, InfoReportsTopology) {
+  const auto bunny = test::dataDir() / "meshes/medium/stanford-bunny__common-3d-test-models.obj";
+  CELLRELIEF_REQUIRE_FILE(bunny);
+  const Result r = run("info " + bunny.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("5 loops"), std::string::npos) << r.output;  // the bunny's five holes
+  EXPECT_NE(r.output.find("1113 unreferenced"), std::string::npos) << r.output;
+  const auto image = test::dataDir() / "heightmaps/sponza/lion_bump.png";
+  CELLRELIEF_REQUIRE_FILE(image);
+  const Result i = run("info " + image.string());
+  ASSERT_EQ(i.status, 0) << i.output;
+  EXPECT_NE(i.output.find("1024 x 1024"), std::string::npos) << i.output;
+  EXPECT_NE(i.output.find("bit depth  8"), std::string::npos) << i.output;
+}
+
+TEST(Cli, DemoWritesTheBuiltInModel) {
+  test::TempDir dir;
+  const Result r = run("demo --subdivisions 4 -o " + (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/displaced_sphere.ply"));
+  EXPECT_NE(r.output.find("5120 (from"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("genus                 0"), std::string::npos) << r.output;
+  const Result own = run("demo " + (dir / "out/displaced_sphere.ply").string() + " -o " +
+                         (dir / "own").string());
+  EXPECT_EQ(own.status, 0) << own.output;
+  const Result bad = run("demo " + (dir / "absent.ply").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.output.find("no such file"), std::string::npos) << bad.output;
+}
+
+}  // namespace
+}  // namespace cellrelief

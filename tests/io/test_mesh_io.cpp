@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+// Mesh I/O on the real data: every mesh in ../shared/data loads and matches the figures that
+// SOURCES.md gives for it (counted independently by a separate script); formats round-trip.
+#include <gtest/gtest.h>
+
+#include <cellrelief/core/mesh_topology.h>
+#include <cellrelief/core/procedural.h>
+#include <cellrelief/io/mesh_io.h>
+
+#include "test_support.h"
+
+namespace cellrelief {
+namespace {
+
+using test::dataDir;
+
+TEST(MeshIO, EveryMeshMatchesTheFiguresInSources) {
+  const std::filesystem::path sources = dataDir() / "SOURCES.md";
+  CELLRELIEF_REQUIRE_FILE(sources);
+  int checked = 0;
+  for (const test::SourceRow& row : test::readSources()) {
+    if (!row.figures.count("V") || !io::isMeshFile(row.path)) continue;
+    const std::filesystem::path path = dataDir() / row.path;
+    CELLRELIEF_REQUIRE_FILE(path);
+    SCOPED_TRACE(row.path);
+    const TriangleMesh mesh = io::readMesh(path);
+    const MeshTopology t = analyzeTopology(mesh);
+    auto expect = [&](const char* key, long long actual) {
+      if (row.figures.count(key)) {
+        EXPECT_EQ(actual, row.figures.at(key)) << key;
+      }
+    };
+    expect("V", static_cast<long long>(mesh.vertexCount()));
+    expect("F", static_cast<long long>(mesh.sourcePolygons));
+    expect("tris", static_cast<long long>(mesh.triangleCount()));
+    expect("chi", t.eulerCharacteristic);
+    expect("comps", static_cast<long long>(t.components));
+    expect("bnd", static_cast<long long>(t.boundaryEdges));
+    expect("nm-e", static_cast<long long>(t.nonManifoldEdges));
+    expect("nm-v", static_cast<long long>(t.nonManifoldVertices));
+    expect("zero-area", static_cast<long long>(t.degenerateTriangles));
+    expect("unref", static_cast<long long>(t.unreferencedVertices));
+    expect("misoriented", static_cast<long long>(t.misorientedEdges));
+    if (row.figures.count("genus")) {
+      ASSERT_TRUE(t.genus.has_value());
+      EXPECT_EQ(*t.genus, row.figures.at("genus"));
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 30) << "SOURCES.md lists 33 meshes";
+}
+
+TEST(MeshIO, TriangleStripsOfIgeaAreExpanded) {
+  const auto path = dataDir() / "meshes/large/igea__common-3d-test-models.ply";
+  CELLRELIEF_REQUIRE_FILE(path);
+  const TriangleMesh m = io::readMesh(path);
+  EXPECT_EQ(m.triangleCount(), 268686u);
+  const MeshTopology t = analyzeTopology(m);
+  EXPECT_TRUE(t.closed() && t.manifold() && t.oriented());  // strip winding alternates correctly
+}
+
+TEST(MeshIO, AttributesArriveWhenPresent) {
+  const auto spot = dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  const auto egea = dataDir() / "meshes/medium/egea__4AxisMilling.obj";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  CELLRELIEF_REQUIRE_FILE(egea);
+  const TriangleMesh s = io::readMesh(spot);
+  ASSERT_TRUE(s.hasUVs());
+  EXPECT_EQ(s.uvs.size(), 3 * s.triangleCount());
+  // The extreme `vt` values of spot.obj (a few lie just outside [0, 1] in the file itself).
+  Vec2f lo(1e9f), hi(-1e9f);
+  for (const Vec2f& uv : s.uvs) {
+    lo = glm::min(lo, uv);
+    hi = glm::max(hi, uv);
+  }
+  EXPECT_FLOAT_EQ(lo.x, -0.0522421f);
+  EXPECT_FLOAT_EQ(hi.y, 1.00065f);
+  EXPECT_FALSE(s.hasNormals());
+  const TriangleMesh e = io::readMesh(egea);
+  EXPECT_TRUE(e.hasNormals());
+  EXPECT_TRUE(e.hasUVs());
+  const TriangleMesh bare = io::readMesh(egea, {.normals = false, .colors = false, .uvs = false});
+  EXPECT_FALSE(bare.hasNormals() || bare.hasUVs());
+}
+
+TEST(MeshIO, PolygonsAreTriangulated) {
+  const auto shelf = dataDir() / "meshes/robustness/platonic_shelf__geometry-central.obj";
+  CELLRELIEF_REQUIRE_FILE(shelf);
+  const TriangleMesh m = io::readMesh(shelf);
+  EXPECT_EQ(m.sourcePolygons, 50u);
+  EXPECT_EQ(m.triangleCount(), 80u);  // 32 triangles + 6 quads * 2 + 12 pentagons * 3
+}
+
+class MeshRoundTrip : public ::testing::TestWithParam<std::pair<const char*, bool>> {};
+
+TEST_P(MeshRoundTrip, WriteThenReadGivesTheSameMesh) {
+  const auto [extension, binary] = GetParam();
+  DisplacedSphereOptions o;
+  o.subdivisions = 3;
+  const TriangleMesh mesh = makeDisplacedSphere(o);
+  test::TempDir dir;
+  const auto path = dir / (std::string("mesh") + extension);
+  io::writeMesh(mesh, path, {.binary = binary});
+  const TriangleMesh back = io::readMesh(path);
+  ASSERT_EQ(back.vertexCount(), mesh.vertexCount());
+  ASSERT_EQ(back.triangleCount(), mesh.triangleCount());
+  const bool exact = binary && std::string(extension) != ".stl";
+  if (std::string(extension) != ".stl") {  // STL has no shared vertices: order may change
+    for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
+      if (exact) {
+        ASSERT_EQ(back.positions[i], mesh.positions[i]) << i;
+      } else {
+        ASSERT_NEAR(glm::distance(back.positions[i], mesh.positions[i]), 0.0f, 1e-5f) << i;
+      }
+    }
+    EXPECT_EQ(back.triangles, mesh.triangles);
+  }
+  EXPECT_EQ(analyzeTopology(back).genus, 0);
+  if (std::string(extension) == ".ply" && binary) EXPECT_EQ(back.colors, mesh.colors);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
+                          std::filesystem::directory_iterator()),
+            1)
+      << "a temporary file was left behind";
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MeshRoundTrip,
+                         ::testing::Values(std::pair{".ply", true}, std::pair{".ply", false},
+                                           std::pair{".obj", false}, std::pair{".off", false},
+                                           std::pair{".stl", true}, std::pair{".stl", false}),
+                         [](const auto& param) {
+                           return std::string(param.param.first + 1) +
+                                  (param.param.second ? "_binary" : "_ascii");
+                         });
+
+}  // namespace
+}  // namespace cellrelief

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+/// @file test_support.h
+/// Shared test helpers: where the real data lives, skipping (or, under CI, failing) when it is
+/// missing, temporary folders, and reading the figures of ../shared/data/SOURCES.md.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace cellrelief::test {
+
+inline std::filesystem::path dataDir() { return CELLRELIEF_DATA_DIR; }
+
+/// Under CI (CI=true) missing data is a failure; elsewhere the test is skipped with the reason.
+inline bool inCI() {
+  const char* ci = std::getenv("CI");
+  return ci && std::string(ci) == "true";
+}
+
+/// Skips the test (fails it under CI) when `path` does not exist.
+#define CELLRELIEF_REQUIRE_FILE(path)                                                   \
+  do {                                                                                  \
+    if (!std::filesystem::exists(path)) {                                               \
+      if (::cellrelief::test::inCI()) FAIL() << "test data missing under CI: " << (path); \
+      GTEST_SKIP() << "test data not found: " << (path);                                \
+    }                                                                                   \
+  } while (0)
+
+/// A fresh folder under the system temporary directory, removed with the object.
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    mPath = std::filesystem::temp_directory_path() /
+            ("cellrelief_test_" + std::to_string(rd()) + std::to_string(rd()));
+    std::filesystem::create_directories(mPath);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(mPath, ec);
+  }
+  const std::filesystem::path& path() const { return mPath; }
+  std::filesystem::path operator/(const std::string& name) const { return mPath / name; }
+
+ private:
+  std::filesystem::path mPath;
+};
+
+inline void writeBytes(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+inline std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// One row of SOURCES.md: the local path and its `key=value` figures (commas removed), plus the
+/// free text of the contents column.
+struct SourceRow {
+  std::string path;
+  std::map<std::string, long long> figures;
+  std::string contents;
+};
+
+/// Rows of the data tables in SOURCES.md whose contents column has `V=` (meshes) or an image
+/// description; figures such as V, F, tris, chi, comps, bnd, nm-e, nm-v, zero-area, unref, genus.
+inline std::vector<SourceRow> readSources() {
+  std::vector<SourceRow> rows;
+  std::ifstream in(dataDir() / "SOURCES.md");
+  std::string line;
+  const std::regex pathRe(R"(^\| `([^`]+)` \|)");
+  const std::regex figureRe(R"(([A-Za-z-]+)=(-?[0-9,]+))");
+  const std::regex genusRe(R"(\*\*genus ([0-9]+)\*\*)");
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (!std::regex_search(line, m, pathRe)) continue;
+    SourceRow row;
+    row.path = m[1];
+    // Columns: local file | path in repo | last change | bytes | contents | notes
+    std::vector<std::string> cells;
+    std::size_t start = 1;
+    for (std::size_t bar; (bar = line.find(" | ", start)) != std::string::npos; start = bar + 3)
+      cells.push_back(line.substr(start, bar - start));
+    if (cells.size() >= 5) row.contents = cells[4];
+    for (auto it = std::sregex_iterator(row.contents.begin(), row.contents.end(), figureRe);
+         it != std::sregex_iterator(); ++it) {
+      std::string value = (*it)[2];
+      value.erase(std::remove(value.begin(), value.end(), ','), value.end());
+      row.figures[(*it)[1]] = std::stoll(value);
+    }
+    if (std::regex_search(row.contents, m, genusRe)) row.figures["genus"] = std::stoll(m[1]);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace cellrelief::test
