@@ -55,36 +55,70 @@ inline bool isMeshFile(const std::filesystem::path& path) {
 
 namespace detail {
 
-/// OpenMesh reports problems on its global error stream; route them into a string for the duration
-/// of one call (the mutex also serializes OpenMesh's IOManager, which is not thread-safe).
+/// OpenMesh reports problems on its global error stream `omerr`. A sink is connected to it once
+/// (OpenMesh leaks a little on every connect/disconnect pair): while a capture is active, messages
+/// go into the capture; otherwise they go to std::cerr as before. The mutex also serializes
+/// OpenMesh's IOManager, which is not thread-safe.
+class OpenMeshErrorSink : public std::streambuf {
+ public:
+  static OpenMeshErrorSink& instance() {
+    static OpenMeshErrorSink sink;
+    return sink;
+  }
+  std::mutex& mutex() { return mMutex; }
+  void capture(std::string* target) { mTarget = target; }
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    const char ch = static_cast<char>(c);
+    if (mTarget)
+      mTarget->push_back(ch);
+    else
+      std::cerr.put(ch);
+    return c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    if (mTarget)
+      mTarget->append(s, static_cast<std::size_t>(n));
+    else
+      std::cerr.write(s, n);
+    return n;
+  }
+
+ private:
+  OpenMeshErrorSink() : mStream(this) {
+    ::omerr().disconnect(std::cerr);
+    ::omerr().connect(mStream);
+  }
+  std::mutex mMutex;
+  std::ostream mStream;
+  std::string* mTarget = nullptr;
+};
+
+/// Routes OpenMesh's messages into a string for the duration of one read or write.
 class CaptureOpenMeshErrors {
  public:
-  CaptureOpenMeshErrors() : mLock(mutex()) {
-    ::omerr().disconnect(std::cerr);
-    ::omerr().connect(mCaptured);
+  CaptureOpenMeshErrors() : mLock(OpenMeshErrorSink::instance().mutex()) {
+    OpenMeshErrorSink::instance().capture(&mCaptured);
     ::omlog().disable();
   }
   ~CaptureOpenMeshErrors() {
     ::omerr().flush();
-    ::omerr().disconnect(mCaptured);
-    ::omerr().connect(std::cerr);
+    OpenMeshErrorSink::instance().capture(nullptr);
     ::omlog().enable();
   }
   std::string text() {
     ::omerr().flush();
-    std::string s = mCaptured.str();
+    std::string s = mCaptured;
     std::replace(s.begin(), s.end(), '\n', ' ');
     while (!s.empty() && s.back() == ' ') s.pop_back();
     return s;
   }
 
  private:
-  static std::mutex& mutex() {
-    static std::mutex m;
-    return m;
-  }
   std::lock_guard<std::mutex> mLock;
-  std::ostringstream mCaptured;
+  std::string mCaptured;
 };
 
 inline void checkReadable(const std::filesystem::path& path) {
