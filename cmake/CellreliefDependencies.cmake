@@ -67,13 +67,14 @@ cellrelief_require(TBB DEBIAN libtbb-dev FIND TBB CONFIG)
 cellrelief_require(OpenMesh DEBIAN libopenmesh-dev FIND OpenMesh CONFIG)
 cellrelief_require(PNG DEBIAN libpng-dev FIND PNG)
 cellrelief_require(stb DEBIAN libstb-dev FIND stb)
+# The cell complex lives on OpenVDB's sparse grid.
+list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
+cellrelief_require(OpenVDB DEBIAN "libopenvdb-dev libboost-iostreams-dev" FIND OpenVDB)
 if(CELLRELIEF_BUILD_APPS)
   cellrelief_require(CLI11 DEBIAN libcli11-dev FIND CLI11 CONFIG)
 endif()
 
 # ---- optional --------------------------------------------------------------------------------------
-list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
-cellrelief_optional(OpenVDB DEBIAN "libopenvdb-dev libboost-iostreams-dev" FIND OpenVDB)
 cellrelief_optional(Ceres DEBIAN libceres-dev FIND Ceres CONFIG)
 cellrelief_optional(CGAL DEBIAN libcgal-dev FIND CGAL CONFIG)
 cellrelief_optional(Embree DEBIAN libembree-dev FIND embree 3 CONFIG FOUND_VAR embree_FOUND)
