@@ -28,7 +28,7 @@ inline constexpr int kMaxGridSize = 1024;
 inline constexpr std::int64_t kCellUnits = std::int64_t(1) << kFractionBits;
 
 using FixedPoint3 = glm::vec<3, std::int64_t, glm::defaultp>;
-using Int128 = __int128;
+__extension__ typedef __int128 Int128;  // GCC and Clang on 64-bit targets
 
 namespace detail {
 inline Int128 dot128(const FixedPoint3& a, const FixedPoint3& b) {
