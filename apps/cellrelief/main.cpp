@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<cellrelief::app::Command> commands = {
       cellrelief::app::addInfoCommand(app),
+      cellrelief::app::addCellsCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

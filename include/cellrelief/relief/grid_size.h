@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: MIT
+/// @file grid_size.h
+/// Automatic grid size (Apaza & Andujar, 3.3.3). A cell's projection is one-to-one only where no
+/// two pieces of its surface fall on the same texel at different depths. The occlusion ratio is the
+/// fraction of surface area that lands on a texel already covered by nearer surface of the same
+/// cell: that area cannot be represented. Doubling N shrinks cells until each holds a nearly
+/// height-field piece; the search stops when the ratio falls below a threshold or N reaches N_max.
+///
+/// Estimate: the surface of every grey cell is sampled (surface_samples.h) at about
+/// `samplesPerTexel` samples per texel of a T x T map. A sample is occluded when the segment from
+/// it to its projection on the domain face (every projection line is straight: parallel, planar,
+/// from a centre, or perpendicular to an axis) crosses another triangle of the same cell: nearer
+/// surface covers its texel. Testing the segment, rather than comparing depths within a texel,
+/// keeps a single sheet seen at a grazing angle from counting as occluded.
+#pragma once
+
+#include <chrono>
+#include <limits>
+#include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "cellrelief/cells/cell_complex.h"
+#include "cellrelief/core/bvh.h"
+#include "cellrelief/projection/choice.h"
+#include "cellrelief/relief/surface_samples.h"
+
+namespace cellrelief::relief {
+
+struct OcclusionOptions {
+  int texels = 16;                 ///< T: sets the sampling density with samplesPerTexel
+  double samplesPerTexel = 0.25;
+  projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
+};
+
+struct OcclusionEstimate {
+  double ratio = 0;         ///< occluded area / total area
+  double totalArea = 0;     ///< in cell units squared
+  double occludedArea = 0;
+  std::size_t samples = 0;
+};
+
+/// The mesh in double precision with a BVH, for segment queries; build once, use for every N.
+struct MeshRayQuery {
+  std::vector<Vec3d> positions;
+  TriangleBvh<double> bvh;
+
+  explicit MeshRayQuery(const TriangleMesh& mesh)
+      : positions(mesh.positions.begin(), mesh.positions.end()), bvh(positions, mesh.triangles) {}
+};
+
+/// Estimates the occlusion ratio of a cell complex built from `mesh`.
+inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
+                                           const cells::CellComplex& complex,
+                                           const OcclusionOptions& options,
+                                           const MeshRayQuery& query) {
+  const int T = options.texels;
+  const double density = options.samplesPerTexel * T * T;
+  constexpr double kSelfOffset = 1e-9;  // along the segment, in cell units
+  struct Scratch {
+    std::vector<SurfaceSample> samples;
+    OcclusionEstimate sum;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const auto greyCells = complex.greyCells();
+  const double h = complex.cellSizeWS();
+  parallelFor(0, greyCells.size(), [&](std::size_t i) {
+    Scratch& s = scratch.local();
+    const cells::GreyCell& cell = greyCells[i];
+    s.samples.clear();
+    sampleCellSurface(complex, mesh.triangles, cell, density, 16 * T * T, s.samples);
+    if (s.samples.empty()) return;
+    const projection::CellProjection<double> proj = projection::chooseProjection<double>(
+        cell.configuration, options.centre, sampleCentroid(s.samples));
+    const Vec3d cellMinWS = complex.cellMinWS(cell.ijk);
+    for (const SurfaceSample& sample : s.samples) {
+      s.sum.totalArea += sample.weight;
+      const projection::FacePoint<double> fp = proj.project(sample.p);
+      const Vec3d target = projection::facePoint(fp.face, fp.uv);
+      const Vec3d dir = target - sample.p;
+      if (glm::dot(dir, dir) == 0) continue;
+      // The segment from the sample to its face point, in world space (t in (0, 1]).
+      const Rayd segment(cellMinWS + h * sample.p, h * dir, kSelfOffset, 1.0);
+      if (query.bvh.anyHit(segment, sample.triangle)) s.sum.occludedArea += sample.weight;
+    }
+    s.sum.samples += s.samples.size();
+  }, 16);
+  OcclusionEstimate total;
+  for (const Scratch& s : scratch) {
+    total.totalArea += s.sum.totalArea;
+    total.occludedArea += s.sum.occludedArea;
+    total.samples += s.sum.samples;
+  }
+  total.ratio = total.totalArea > 0 ? total.occludedArea / total.totalArea : 0.0;
+  return total;
+}
+
+struct GridSizeOptions {
+  double threshold = 0.01;  ///< stop when the occlusion ratio falls below this
+  int maxGridSize = 128;    ///< N_max
+  OcclusionOptions occlusion = {};
+  std::size_t memoryLimitBytes = std::size_t(4) << 30;
+};
+
+struct GridSizeTrial {
+  int gridSize = 0;
+  double occlusionRatio = 0;
+  std::size_t greyCells = 0;
+  double seconds = 0;
+};
+
+struct GridSizeChoice {
+  int gridSize = 0;
+  bool metThreshold = false;  ///< false when N_max was reached first
+  std::vector<GridSizeTrial> trials;
+};
+
+/// Doubles N from 1 until the occlusion ratio is below the threshold or N reaches N_max, and
+/// reports the ratio of every N tried.
+inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOptions& options = {}) {
+  if (options.maxGridSize < 1 || options.maxGridSize > cells::kMaxGridSize)
+    throw Error(ErrorKind::InvalidArgument,
+                "N_max = " + std::to_string(options.maxGridSize) + " is out of range (1 to " +
+                    std::to_string(cells::kMaxGridSize) + ")");
+  if (!(options.threshold > 0 && options.threshold < 1))
+    throw Error(ErrorKind::InvalidArgument, "the occlusion threshold must lie in (0, 1)");
+  GridSizeChoice choice;
+  const MeshRayQuery query(mesh);
+  for (int n = 1;; n *= 2) {
+    n = std::min(n, options.maxGridSize);
+    const auto start = std::chrono::steady_clock::now();
+    const cells::CellComplex complex =
+        cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
+    const OcclusionEstimate est = estimateOcclusion(mesh, complex, options.occlusion, query);
+    choice.trials.push_back({n, est.ratio, complex.stats().grey,
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                                 .count()});
+    choice.gridSize = n;
+    if (est.ratio < options.threshold) {
+      choice.metThreshold = true;
+      break;
+    }
+    if (n >= options.maxGridSize) break;
+  }
+  return choice;
+}
+
+}  // namespace cellrelief::relief

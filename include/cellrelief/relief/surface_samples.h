@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+/// @file surface_samples.h
+/// Deterministic area-uniform samples of the surface inside one cell, in the cell's unit
+/// coordinates. Used to estimate occlusion and the surface centroid of a cell. Samples follow the
+/// R2 low-discrepancy sequence folded into each triangle, so estimates are repeatable and converge
+/// faster than random sampling.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "cellrelief/cells/cell_complex.h"
+#include "cellrelief/core/math.h"
+
+namespace cellrelief::relief {
+
+struct SurfaceSample {
+  Vec3d p;                 ///< unit-cell coordinates, inside the closed cell
+  double weight;           ///< surface area it stands for, in cell units squared
+  std::uint32_t triangle;  ///< the mesh triangle it lies on
+};
+
+/// Appends samples of the triangles meeting `cell`: about `density` samples per unit of area (in
+/// cell units), at least one per triangle and at most `maxPerTriangle`; samples falling outside
+/// the closed cell are dropped (other cells sample those parts).
+inline void sampleCellSurface(const cells::CellComplex& complex, std::span<const Vec3u> triangles,
+                              const cells::GreyCell& cell, double density, int maxPerTriangle,
+                              std::vector<SurfaceSample>& out) {
+  constexpr double kAlpha1 = 0.7548776662466927, kAlpha2 = 0.5698402909980532;  // R2 sequence
+  const std::span<const Vec3d> positions = complex.snappedPositionsIS();
+  const Vec3d origin(cell.ijk);
+  for (const std::uint32_t t : complex.cellTriangles(cell)) {
+    const Vec3u& tri = triangles[t];
+    const Vec3d a = positions[tri[0]] - origin, b = positions[tri[1]] - origin,
+                c = positions[tri[2]] - origin;
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    const int k = int(std::clamp(std::ceil(area * density), 1.0, double(maxPerTriangle)));
+    const double weight = area / k;
+    for (int i = 0; i < k; ++i) {
+      double r1 = std::fmod(0.5 + kAlpha1 * (i + 1), 1.0), r2 = std::fmod(0.5 + kAlpha2 * (i + 1), 1.0);
+      if (r1 + r2 > 1.0) {
+        r1 = 1.0 - r1;
+        r2 = 1.0 - r2;
+      }
+      const Vec3d p = a + r1 * (b - a) + r2 * (c - a);
+      if (p.x < 0 || p.y < 0 || p.z < 0 || p.x > 1 || p.y > 1 || p.z > 1) continue;
+      out.push_back({p, weight, t});
+    }
+  }
+}
+
+/// Area-weighted centroid of samples (the cell centre when there are none).
+inline Vec3d sampleCentroid(std::span<const SurfaceSample> samples) {
+  Vec3d sum(0);
+  double w = 0;
+  for (const SurfaceSample& s : samples) {
+    sum += s.weight * s.p;
+    w += s.weight;
+  }
+  return w > 0 ? sum / w : Vec3d(0.5);
+}
+
+}  // namespace cellrelief::relief
