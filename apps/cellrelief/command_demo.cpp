@@ -13,6 +13,7 @@
 #include <cellrelief/io/mesh_io.h>
 
 #include "commands.h"
+#include "preview.h"
 
 namespace cellrelief::app {
 
@@ -49,6 +50,12 @@ int runDemo(const DemoOptions& o) {
     io::writeMesh(mesh, model);
     std::printf("demo: read %s (%zu triangles), wrote %s\n", o.input.c_str(),
                 mesh.triangleCount(), model.c_str());
+  }
+  {
+    const TriangleMesh written = io::readMesh(model);
+    const std::filesystem::path picture = outDir / (model.stem().string() + ".png");
+    writePreview(written, picture);
+    std::printf("demo: wrote %s (a picture of the model)\n", picture.c_str());
   }
   std::printf("\n");
   printMeshInfo(model.string());

@@ -91,5 +91,27 @@ TEST(Cli, DemoWritesTheBuiltInModel) {
   EXPECT_NE(bad.output.find("no such file"), std::string::npos) << bad.output;
 }
 
+TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
+  const auto mesh = test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";
+  CELLRELIEF_REQUIRE_FILE(mesh);
+  test::TempDir dir;
+  const Result r = run("cells " + mesh.string() + " --grid 16 --dump " + (dir / "cells.ply").string() +
+                       " --preview " + (dir / "cells.png").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* words : {"N = 16", "grey 531", "base cases", "3b", "axial", "occlusion", "time"})
+    EXPECT_NE(r.output.find(words), std::string::npos) << words << " not in " << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "cells.ply"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "cells.png"));
+  const Result automatic = run("cells " + mesh.string() + " --max-grid 32");
+  ASSERT_EQ(automatic.status, 0) << automatic.output;
+  EXPECT_NE(automatic.output.find("N =    1"), std::string::npos) << automatic.output;
+  EXPECT_NE(automatic.output.find("chosen N"), std::string::npos) << automatic.output;
+  for (const std::string bad : {"--grid 0", "--grid 5000", "--grid many"}) {
+    const Result e = run("cells " + mesh.string() + " " + bad);
+    EXPECT_NE(e.status, 0) << bad;
+    EXPECT_NE(e.output.find("error"), std::string::npos) << e.output;
+  }
+}
+
 }  // namespace
 }  // namespace cellrelief

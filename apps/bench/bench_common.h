@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+/// @file bench_common.h
+/// Shared pieces of the benchmark programs: timing (median of repeats), the 1M-triangle Igea made
+/// by one Loop subdivision step through OpenMesh, the OpenVDB peer, and CSV output.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <cellrelief/core/triangle_mesh.h>
+
+namespace cellrelief::bench {
+
+/// Median wall time in seconds of `repeats` runs of `work`.
+inline double medianSeconds(int repeats, const std::function<void()>& work) {
+  std::vector<double> times;
+  for (int i = 0; i < repeats; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+/// One Loop subdivision step (4x the triangles), through OpenMesh's subdivider. The input must be
+/// a manifold mesh OpenMesh can hold.
+inline TriangleMesh loopSubdivide(const TriangleMesh& mesh) {
+  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+  OMesh om;
+  std::vector<OMesh::VertexHandle> v;
+  v.reserve(mesh.positions.size());
+  for (const Vec3f& p : mesh.positions) v.push_back(om.add_vertex(OMesh::Point(p.x, p.y, p.z)));
+  for (const Vec3u& t : mesh.triangles) om.add_face(v[t[0]], v[t[1]], v[t[2]]);
+  OpenMesh::Subdivider::Uniform::LoopT<OMesh> loop;
+  loop.attach(om);
+  loop(1);
+  loop.detach();
+  TriangleMesh out;
+  out.positions.reserve(om.n_vertices());
+  for (const auto vh : om.vertices()) {
+    const OMesh::Point& p = om.point(vh);
+    out.positions.emplace_back(p[0], p[1], p[2]);
+  }
+  for (const auto fh : om.faces()) {
+    Vec3u t;
+    int k = 0;
+    for (const auto vh : om.fv_range(fh)) t[k++] = std::uint32_t(vh.idx());
+    out.triangles.push_back(t);
+  }
+  out.sourcePolygons = out.triangles.size();
+  return out;
+}
+
+/// OpenVDB's narrow-band level set of the mesh at the given voxel size (half width 3 voxels).
+inline openvdb::FloatGrid::Ptr levelSet(const TriangleMesh& mesh, double voxelSize) {
+  std::vector<openvdb::Vec3s> points;
+  points.reserve(mesh.positions.size());
+  for (const Vec3f& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+  std::vector<openvdb::Vec3I> triangles;
+  triangles.reserve(mesh.triangles.size());
+  for (const Vec3u& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+  const auto xform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, 3.0f);
+}
+
+/// A CSV file written row by row; the header is written on creation.
+class CsvWriter {
+ public:
+  CsvWriter(const std::filesystem::path& path, const std::string& header) : mPath(path) {
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    mOut.open(path);
+    mOut << header << "\n";
+  }
+  template <class... Args>
+  void row(const Args&... args) {
+    bool first = true;
+    ((mOut << (first ? "" : ",") << args, first = false), ...);
+    mOut << "\n";
+    mOut.flush();
+  }
+  const std::filesystem::path& path() const { return mPath; }
+
+ private:
+  std::filesystem::path mPath;
+  std::ofstream mOut;
+};
+
+}  // namespace cellrelief::bench
