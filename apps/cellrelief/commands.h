@@ -21,6 +21,8 @@ struct Command {
 Command addInfoCommand(CLI::App& app);
 Command addDemoCommand(CLI::App& app);
 Command addCellsCommand(CLI::App& app);
+Command addConvertCommand(CLI::App& app);
+Command addReconstructCommand(CLI::App& app);
 
 /// Prints the `info` report of a mesh file (also used by `demo`).
 void printMeshInfo(const std::string& path);

@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
   const std::vector<cellrelief::app::Command> commands = {
       cellrelief::app::addInfoCommand(app),
       cellrelief::app::addCellsCommand(app),
+      cellrelief::app::addConvertCommand(app),
+      cellrelief::app::addReconstructCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <utility>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,45 @@
 #include "cellrelief/core/hit.h"
 
 namespace cellrelief {
+
+/// Squared distance from p to the segment [a, b].
+template <Real T>
+T pointSegmentDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b) {
+  const Vec3<T> ab = b - a;
+  const T len2 = glm::dot(ab, ab);
+  const T t = len2 > 0 ? glm::clamp(glm::dot(p - a, ab) / len2, T(0), T(1)) : T(0);
+  const Vec3<T> d = p - (a + t * ab);
+  return glm::dot(d, d);
+}
+
+/// Squared distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
+/// a degenerate triangle is treated as its three edges.
+template <Real T>
+T pointTriangleDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
+  const Vec3<T> ab = b - a, ac = c - a, ap = p - a;
+  const Vec3<T> n = glm::cross(ab, ac);
+  if (glm::dot(n, n) == T(0))
+    return std::min({pointSegmentDistance2(p, a, b), pointSegmentDistance2(p, b, c),
+                     pointSegmentDistance2(p, c, a)});
+  const T d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  auto dist2 = [&](const Vec3<T>& q) { return glm::dot(p - q, p - q); };
+  if (d1 <= 0 && d2 <= 0) return dist2(a);
+  const Vec3<T> bp = p - b;
+  const T d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return dist2(b);
+  const T vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return dist2(a + ab * (d1 / (d1 - d3)));
+  const Vec3<T> cp = p - c;
+  const T d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return dist2(c);
+  const T vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return dist2(a + ac * (d2 / (d2 - d6)));
+  const T va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return dist2(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  const T denom = T(1) / (va + vb + vc);
+  return dist2(a + ab * (vb * denom) + ac * (vc * denom));
+}
 
 template <Real T>
 class TriangleBvh {
@@ -65,6 +105,44 @@ class TriangleBvh {
       return found;
     });
     return found;
+  }
+
+  /// The nearest point of the triangles to `p` within `maxDistance` (infinity: anywhere).
+  /// Returns the squared distance (infinity when nothing is that close) and the triangle.
+  std::pair<T, std::uint32_t> closestPoint(const Vec3<T>& p,
+                                           T maxDistance = std::numeric_limits<T>::infinity()) const {
+    T best = maxDistance == std::numeric_limits<T>::infinity() ? maxDistance : maxDistance * maxDistance;
+    std::uint32_t bestId = kInvalidId;
+    if (mNodes.empty()) return {best, bestId};
+    std::pair<T, std::uint32_t> stack[64];
+    int top = 0;
+    stack[top++] = {boxDistance2(mNodes[0].box, p), 0};
+    while (top > 0) {
+      const auto [d2, index] = stack[--top];
+      if (d2 > best) continue;
+      const Node& node = mNodes[index];
+      if (node.count > 0) {
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+          const T t2 = pointTriangleDistance2(p, mV0[i], mV0[i] + mE1[i], mV0[i] + mE2[i]);
+          if (t2 < best) {
+            best = t2;
+            bestId = mIds[i];
+          }
+        }
+        continue;
+      }
+      const std::uint32_t left = index + 1, right = node.first;
+      const T dl = boxDistance2(mNodes[left].box, p), dr = boxDistance2(mNodes[right].box, p);
+      // Push the farther child first so the nearer one is visited next.
+      if (dl < dr) {
+        if (dr <= best) stack[top++] = {dr, right};
+        if (dl <= best) stack[top++] = {dl, left};
+      } else {
+        if (dl <= best) stack[top++] = {dl, left};
+        if (dr <= best) stack[top++] = {dr, right};
+      }
+    }
+    return {best, bestId};
   }
 
   /// The nearest hit with t in [tmin, tmax] (hit.valid() is false when there is none); primId is
@@ -148,6 +226,11 @@ class TriangleBvh {
       stack[top++] = node.first;
       stack[top++] = left;
     }
+  }
+
+  static T boxDistance2(const Aabb<T>& box, const Vec3<T>& p) {
+    const Vec3<T> d = glm::max(glm::max(box.min - p, p - box.max), Vec3<T>(0));
+    return glm::dot(d, d);
   }
 
   std::vector<Node> mNodes;

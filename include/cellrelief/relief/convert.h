@@ -1,0 +1,278 @@
+// SPDX-License-Identifier: MIT
+/// @file convert.h
+/// Mesh to relief model (Apaza & Andujar, 3.3.2): for every domain face of every grey cell, the
+/// distance from each sample point P' of the face to the nearest surface point that projects onto
+/// it. Each sample casts its projection line (from P' towards the centre, the axis, or along the
+/// inward normal) against the mesh's BVH and keeps the nearest hit, so distances are exact per
+/// sample, never interpolated across triangles, and axial projections need no curve subdivision.
+/// Normals (interpolated vertex normals) and colors (vertex colors, or a texture through the
+/// mesh's UVs) are sampled at the same hits when the mesh has them. Parallel over cells with TBB.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <mutex>
+
+#include "cellrelief/cells/cell_complex.h"
+#include "cellrelief/core/bvh.h"
+#include "cellrelief/core/parallel.h"
+#include "cellrelief/relief/grid_size.h"
+#include "cellrelief/relief/relief_model.h"
+
+namespace cellrelief::relief {
+
+struct ConvertOptions {
+  int gridSize = 0;   ///< N; 0 chooses it from the occlusion ratio (grid_size.h)
+  int texels = 33;    ///< T: samples per face side (2^k + 1 keeps every mip level on the edges)
+  int distanceBits = 16;
+  /// Normal maps only when the mesh has normals (a mesh that lacks them shades from the distance
+  /// gradient); set forceNormals to store normals computed from the geometry anyway.
+  NormalFormat normals = NormalFormat::Octahedral16;
+  bool forceNormals = false;
+  bool colors = true;                         ///< when the mesh has colors or a texture is given
+  const Image<std::uint8_t>* texture = nullptr;  ///< sampled through the mesh's UVs
+  projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
+  GridSizeOptions gridSearch = {};
+  std::size_t memoryLimitBytes = std::size_t(4) << 30;
+  /// Called with the fraction done (0..1), from the calling thread, at most about 100 times.
+  std::function<void(double)> progress;
+};
+
+struct ConvertReport {
+  double gridSeconds = 0, sampleSeconds = 0, totalSeconds = 0;
+  std::size_t greyCells = 0, layers = 0, droppedLayers = 0;
+  std::size_t filledSamples = 0, emptySamples = 0;
+  double quantizationErrorWS = 0;
+  std::vector<GridSizeTrial> gridTrials;
+};
+
+namespace detail {
+/// Where a face sample's projection line goes: from P' to `end` (unit-cell coordinates).
+template <class Proj>
+Vec3d projectionLineEnd(const Proj& proj, int face, const Vec3d& onFace) {
+  using projection::ProjectionType;
+  switch (proj.type) {
+    case ProjectionType::Parallel: return onFace - Vec3d(cells::faceNormal(face));
+    case ProjectionType::Planar: return onFace - 0.5 * Vec3d(cells::faceNormal(face));
+    case ProjectionType::Perspective: return proj.point;
+    case ProjectionType::Axial: {
+      Vec3d foot = proj.point;
+      foot[proj.faceOrAxis] = onFace[proj.faceOrAxis];
+      return foot;
+    }
+  }
+  return proj.point;
+}
+}  // namespace detail
+
+/// Converts a mesh. Throws Error on bad input (see CellComplex::build) or bad options.
+inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& options = {},
+                           ConvertReport* report = nullptr) {
+  const auto start = std::chrono::steady_clock::now();
+  const int T = options.texels;
+  if (T < 2 || T > 1025)
+    throw Error(ErrorKind::InvalidArgument,
+                "texels T = " + std::to_string(T) + " is out of range (2 to 1025)");
+  if (options.distanceBits != 16 && options.distanceBits != 8)
+    throw Error(ErrorKind::InvalidArgument, "distance bits must be 8 or 16");
+  ConvertReport local;
+  ConvertReport& rep = report ? *report : local;
+
+  int n = options.gridSize;
+  if (n == 0) {
+    const GridSizeChoice choice = chooseGridSize(mesh, options.gridSearch);
+    n = choice.gridSize;
+    rep.gridTrials = choice.trials;
+  }
+  const cells::CellComplex complex =
+      cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
+  const auto grey = complex.greyCells();
+  std::size_t maxLayers = 0;
+  for (const cells::GreyCell& g : grey) maxLayers += std::popcount(unsigned(g.domainFaces()));
+  const std::size_t sampleBytes = maxLayers * std::size_t(T) * T * (4 + 4 + 4);
+  if (sampleBytes > options.memoryLimitBytes)
+    throw Error(ErrorKind::ResourceLimit,
+                "N = " + std::to_string(n) + ", T = " + std::to_string(T) + " needs about " +
+                    std::to_string(sampleBytes >> 20) + " MiB of maps before quantization, over the limit");
+  rep.gridSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // Signals the mesh has: nothing else is sampled or stored.
+  const bool wantNormals =
+      options.normals != NormalFormat::None && (mesh.hasNormals() || options.forceNormals);
+  const bool textured = options.colors && options.texture && mesh.hasUVs();
+  const bool wantColors = options.colors && (mesh.hasColors() || textured);
+  const std::vector<Vec3f> vertexNormals =
+      wantNormals ? (mesh.hasNormals() ? mesh.normals : computeVertexNormals(mesh)) : std::vector<Vec3f>{};
+  const MeshRayQuery query(mesh);
+
+  // Per cell: its projection and, per domain face, T x T samples (distance, normal, color).
+  struct CellSamples {
+    projection::CellProjection<double> proj;
+    std::vector<float> distance;  // faces x T x T, NaN = empty (domain faces in face order)
+    std::vector<Vec3f> normal;
+    std::vector<Color8> color;
+    std::uint8_t present = 0;
+  };
+  std::vector<CellSamples> samples(grey.size());
+  std::atomic<std::size_t> done{0};
+  std::mutex progressMutex;
+  const double h = complex.cellSizeWS();
+  parallelFor(0, grey.size(), [&](std::size_t ci) {
+    const cells::GreyCell& cell = grey[ci];
+    CellSamples& out = samples[ci];
+    std::optional<Vec3d> centroid;
+    if (options.centre == projection::CentreOfProjection::SurfaceCentroid) {
+      std::vector<SurfaceSample> surf;
+      sampleCellSurface(complex, mesh.triangles, cell, 256.0, 4096, surf);
+      centroid = sampleCentroid(surf);
+    }
+    out.proj = projection::chooseProjection<double>(cell.configuration, options.centre, centroid);
+    const int faces = std::popcount(unsigned(cell.domainFaces()));
+    out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
+    if (wantNormals) out.normal.assign(out.distance.size(), Vec3f(0));
+    if (wantColors) out.color.assign(out.distance.size(), Color8(0));
+    const Vec3d cellMin = complex.cellMinWS(cell.ijk);
+    int slot = 0;
+    for (int f = 0; f < cells::kFaceCount; ++f) {
+      if (!(cell.domainFaces() & (1u << f))) continue;
+      bool any = false;
+      for (int b = 0; b < T; ++b)
+        for (int a = 0; a < T; ++a) {
+          const Vec2d uv(double(a) / (T - 1), double(b) / (T - 1));
+          const Vec3d onFace = projection::facePoint(f, uv);
+          const Vec3d end = detail::projectionLineEnd(out.proj, f, onFace);
+          const Rayd ray(cellMin + h * onFace, h * (end - onFace), 0.0, 1.0);
+          const Hitd hit = query.bvh.closestHit(ray);
+          if (!hit.valid()) continue;
+          const std::size_t k = (std::size_t(slot) * T + b) * T + a;
+          out.distance[k] = float(hit.t * glm::length(end - onFace));
+          any = true;
+          const Vec3u& tri = mesh.triangles[hit.primId];
+          const double w0 = 1.0 - hit.u - hit.v;
+          if (wantNormals) {
+            Vec3f nrm = float(w0) * vertexNormals[tri[0]] + float(hit.u) * vertexNormals[tri[1]] +
+                        float(hit.v) * vertexNormals[tri[2]];
+            const float len = glm::length(nrm);
+            out.normal[k] = len > 0 ? nrm / len : Vec3f(glm::normalize(hit.geometricNormal));
+          }
+          if (wantColors) {
+            if (textured) {
+              const std::size_t c = 3 * std::size_t(hit.primId);
+              const Vec2f uvTex = float(w0) * mesh.uvs[c] + float(hit.u) * mesh.uvs[c + 1] +
+                                  float(hit.v) * mesh.uvs[c + 2];
+              // OBJ's v runs upwards; image rows run downwards.
+              const Vec4f t = options.texture->sample(Vec2f(uvTex.x, 1.0f - uvTex.y),
+                                                      {Filter::Bilinear, Wrap::Repeat});
+              out.color[k] = Color8(glm::round(glm::clamp(t, 0.0f, 1.0f) * 255.0f));
+            } else {
+              const Vec4f c = float(w0) * Vec4f(mesh.colors[tri[0]]) +
+                              float(hit.u) * Vec4f(mesh.colors[tri[1]]) +
+                              float(hit.v) * Vec4f(mesh.colors[tri[2]]);
+              out.color[k] = Color8(glm::round(c));
+            }
+          }
+        }
+      if (any) out.present |= std::uint8_t(1u << f);
+      ++slot;
+    }
+    const std::size_t finished = ++done;
+    if (options.progress && finished % std::max<std::size_t>(1, grey.size() / 100) == 0) {
+      std::unique_lock lock(progressMutex, std::try_to_lock);
+      if (lock.owns_lock()) options.progress(double(finished) / double(grey.size()));
+    }
+  }, 4);
+
+  // Layers for present faces only; the distance range for quantization.
+  ReliefModel model;
+  model.gridSize = n;
+  model.originWS = complex.boundsWS().min;
+  model.cellSizeWS = h;
+  model.texels = T;
+  model.distanceBits = options.distanceBits;
+  model.normalFormat = wantNormals ? options.normals : NormalFormat::None;
+  model.colorFormat = wantColors ? ColorFormat::Rgba8 : ColorFormat::None;
+  std::uint32_t layers = 0;
+  float maxDistance = 0;
+  model.cells.resize(grey.size());
+  for (std::size_t ci = 0; ci < grey.size(); ++ci) {
+    const cells::GreyCell& g = grey[ci];
+    CellRecord& r = model.cells[ci];
+    r.packedIjk = CellRecord::packIjk(g.ijk);
+    r.configuration = g.configuration;
+    r.projectionType = std::uint8_t(samples[ci].proj.type);
+    r.faceOrAxis = std::uint8_t(std::max(0, samples[ci].proj.faceOrAxis));
+    r.presentFaces = samples[ci].present;
+    r.firstLayer = layers;
+    for (int a = 0; a < 3; ++a) r.point[a] = float(samples[ci].proj.point[a]);
+    layers += std::popcount(unsigned(r.presentFaces));
+    rep.droppedLayers += std::popcount(unsigned(g.domainFaces())) - std::popcount(unsigned(r.presentFaces));
+    for (const float d : samples[ci].distance)
+      if (!std::isnan(d)) maxDistance = std::max(maxDistance, d);
+  }
+  model.distanceMax = maxDistance > 0 ? maxDistance : 1.0f;
+  if (layers > 0) {
+    if (model.distanceBits == 16) model.distances16 = ImageArray<std::uint16_t>(T, T, int(layers), 1);
+    else model.distances8 = ImageArray<std::uint8_t>(T, T, int(layers), 1);
+    if (model.normalFormat == NormalFormat::Octahedral16)
+      model.normals16 = ImageArray<std::uint16_t>(T, T, int(layers), 2);
+    if (model.normalFormat == NormalFormat::Rgba8)
+      model.normals8 = ImageArray<std::uint8_t>(T, T, int(layers), 4);
+    if (model.colorFormat == ColorFormat::Rgba8)
+      model.colors = ImageArray<std::uint8_t>(T, T, int(layers), 4);
+  }
+  const double codeScale = double(model.maxCode()) / double(model.distanceMax);
+  std::atomic<std::size_t> filled{0}, empty{0};
+  parallelFor(0, grey.size(), [&](std::size_t ci) {
+    const CellRecord& r = model.cells[ci];
+    const CellSamples& s = samples[ci];
+    int slot = 0;
+    std::size_t localFilled = 0, localEmpty = 0;
+    for (int f = 0; f < cells::kFaceCount; ++f) {
+      if (!(cells::domainFacesOf(r.configuration) & (1u << f))) continue;
+      const int layer = r.layerOf(f);
+      if (layer >= 0)
+        for (int b = 0; b < T; ++b)
+          for (int a = 0; a < T; ++a) {
+            const std::size_t k = (std::size_t(slot) * T + b) * T + a;
+            const float d = s.distance[k];
+            std::uint32_t code = model.emptyCode();
+            if (!std::isnan(d)) {
+              code = std::min<std::uint32_t>(model.maxCode(), std::uint32_t(std::lround(d * codeScale)));
+              ++localFilled;
+            } else {
+              ++localEmpty;
+            }
+            if (model.distanceBits == 16) model.distances16.at(a, b, layer, 0) = std::uint16_t(code);
+            else model.distances8.at(a, b, layer, 0) = std::uint8_t(code);
+            if (std::isnan(d)) continue;
+            if (model.normalFormat == NormalFormat::Octahedral16) {
+              const Vec2f e = octahedralEncode(s.normal[k]);
+              model.normals16.at(a, b, layer, 0) = quantizeUnorm<std::uint16_t>(e.x);
+              model.normals16.at(a, b, layer, 1) = quantizeUnorm<std::uint16_t>(e.y);
+            } else if (model.normalFormat == NormalFormat::Rgba8) {
+              const Vec3f e = s.normal[k] * 0.5f + 0.5f;
+              for (int c = 0; c < 3; ++c) model.normals8.at(a, b, layer, c) = quantizeUnorm<std::uint8_t>(e[c]);
+              model.normals8.at(a, b, layer, 3) = 255;
+            }
+            if (model.colorFormat == ColorFormat::Rgba8)
+              for (int c = 0; c < 4; ++c) model.colors.at(a, b, layer, c) = s.color[k][c];
+          }
+      ++slot;
+    }
+    filled += localFilled;
+    empty += localEmpty;
+  }, 16);
+  if (options.progress) options.progress(1.0);
+
+  rep.greyCells = grey.size();
+  rep.layers = layers;
+  rep.filledSamples = filled;
+  rep.emptySamples = empty;
+  rep.quantizationErrorWS = model.quantizationError() * h;
+  rep.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  rep.sampleSeconds = rep.totalSeconds - rep.gridSeconds;
+  return model;
+}
+
+}  // namespace cellrelief::relief

@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: MIT
+/// @file model_file.h
+/// The relief model file (.crm). It lives in `relief`, not `io`, because dependencies point
+/// downward (io <- relief): it uses io's atomic writes and checksum.
+/// One versioned, checksummed, little-endian file, written
+/// atomically. Layout in docs/format.md: a fixed header, then the cell look-up table and the map
+/// sections exactly as they sit in memory (and on the GPU), then a CRC-32 of everything before it.
+/// Loading checks the magic, the version, every size against the header, the checksum and the
+/// look-up table's invariants, and names the file and the problem when any fails; a round trip is
+/// bit-exact.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/io/atomic_file.h"
+#include "cellrelief/io/detail/crc32.h"
+#include "cellrelief/relief/relief_model.h"
+
+namespace cellrelief::relief {
+
+inline constexpr char kReliefMagic[8] = {'C', 'E', 'L', 'L', 'R', 'E', 'L', 'F'};
+inline constexpr std::uint32_t kReliefFileVersion = 1;
+
+namespace detail {
+using io::detail::crc32;
+/// The fixed header, 112 bytes.
+struct ReliefHeader {
+  char magic[8];
+  std::uint32_t version;
+  std::uint32_t headerBytes;
+  std::int32_t gridSize;
+  std::int32_t texels;
+  std::uint8_t distanceBits;
+  std::uint8_t normalFormat;
+  std::uint8_t colorFormat;
+  std::uint8_t reserved0;
+  float distanceMax;
+  double originWS[3];
+  double cellSizeWS;
+  std::uint64_t cellCount;
+  std::uint64_t layerCount;
+  std::uint64_t cellBytes;
+  std::uint64_t distanceBytes;
+  std::uint64_t normalBytes;
+  std::uint64_t colorBytes;
+};
+static_assert(sizeof(ReliefHeader) == 112);
+
+template <class T>
+std::span<const char> bytesOf(const ImageArray<T>& image) {
+  if (image.isEmpty()) return {};
+  const auto d = image.levelData(0);
+  return {reinterpret_cast<const char*>(d.data()), d.size() * sizeof(T)};
+}
+}  // namespace detail
+
+/// Writes the model (level 0 of each map) atomically.
+inline void writeRelief(const ReliefModel& model, const std::filesystem::path& path) {
+  detail::ReliefHeader h{};
+  std::memcpy(h.magic, kReliefMagic, 8);
+  h.version = kReliefFileVersion;
+  h.headerBytes = sizeof(h);
+  h.gridSize = model.gridSize;
+  h.texels = model.texels;
+  h.distanceBits = std::uint8_t(model.distanceBits);
+  h.normalFormat = std::uint8_t(model.normalFormat);
+  h.colorFormat = std::uint8_t(model.colorFormat);
+  h.distanceMax = model.distanceMax;
+  for (int a = 0; a < 3; ++a) h.originWS[a] = model.originWS[a];
+  h.cellSizeWS = model.cellSizeWS;
+  h.cellCount = model.cells.size();
+  h.layerCount = std::uint64_t(model.layerCount());
+  const std::span<const char> cells(reinterpret_cast<const char*>(model.cells.data()),
+                                    model.cells.size() * sizeof(CellRecord));
+  const std::span<const char> distances =
+      model.distanceBits == 16 ? detail::bytesOf(model.distances16) : detail::bytesOf(model.distances8);
+  const std::span<const char> normals = model.normalFormat == NormalFormat::Octahedral16
+                                            ? detail::bytesOf(model.normals16)
+                                            : detail::bytesOf(model.normals8);
+  const std::span<const char> colors = detail::bytesOf(model.colors);
+  h.cellBytes = cells.size();
+  h.distanceBytes = distances.size();
+  h.normalBytes = normals.size();
+  h.colorBytes = colors.size();
+
+  io::AtomicFile file(path);
+  {
+    std::ofstream out(file.temporaryPath(), std::ios::binary);
+    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+    std::uint32_t crc = 0;
+    auto put = [&](const char* data, std::size_t size) {
+      out.write(data, std::streamsize(size));
+      crc = detail::crc32(data, size, crc);
+    };
+    put(reinterpret_cast<const char*>(&h), sizeof h);
+    for (const auto& section : {cells, distances, normals, colors}) put(section.data(), section.size());
+    out.write(reinterpret_cast<const char*>(&crc), sizeof crc);
+    out.flush();
+    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
+  }
+  file.commit();
+}
+
+/// Reads a model; throws Error (FileNotFound, FileFormat) naming the file and the problem.
+inline ReliefModel readRelief(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorKind::FileNotFound, path, "no such file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::FileNotFound, path, "cannot open for reading");
+  const std::uint64_t size = std::filesystem::file_size(path);
+  auto fail = [&](const std::string& problem) -> void { throw Error(ErrorKind::FileFormat, path, problem); };
+  detail::ReliefHeader h{};
+  if (size < 12) fail("too short to be a cellrelief model (" + std::to_string(size) + " bytes)");
+  in.read(reinterpret_cast<char*>(&h), std::streamsize(std::min<std::uint64_t>(size, sizeof h)));
+  if (std::memcmp(h.magic, kReliefMagic, 8) != 0) fail("not a cellrelief model (wrong magic bytes)");
+  if (h.version != kReliefFileVersion)
+    fail("file format version " + std::to_string(h.version) + ", this build reads version " +
+         std::to_string(kReliefFileVersion));
+  if (size < sizeof h + 4) fail("truncated: the header is incomplete");
+  if (h.headerBytes != sizeof h) fail("corrupted header (header size " + std::to_string(h.headerBytes) + ")");
+  const std::uint64_t T = std::uint64_t(h.texels);
+  const std::uint64_t layers = h.layerCount;
+  const bool sane = h.gridSize >= 1 && h.gridSize <= 1024 && h.texels >= 2 && h.texels <= 1025 &&
+                    (h.distanceBits == 8 || h.distanceBits == 16) && h.normalFormat <= 2 &&
+                    h.colorFormat <= 1 && h.cellCount <= (1ull << 30) && layers <= (6ull << 30) &&
+                    std::isfinite(h.distanceMax) && h.distanceMax > 0 && h.cellSizeWS > 0;
+  if (!sane) fail("corrupted header (values out of range)");
+  const std::uint64_t samples = layers * T * T;
+  const std::uint64_t normalBytesPerSample =
+      h.normalFormat == 2 ? 4 : (h.normalFormat == 1 ? 4 : 0);
+  if (h.cellBytes != h.cellCount * sizeof(CellRecord) ||
+      h.distanceBytes != samples * (h.distanceBits / 8) ||
+      h.normalBytes != samples * normalBytesPerSample || h.colorBytes != samples * (h.colorFormat ? 4 : 0))
+    fail("corrupted header (section sizes disagree with the counts)");
+  const std::uint64_t expected =
+      sizeof h + h.cellBytes + h.distanceBytes + h.normalBytes + h.colorBytes + 4;
+  if (size < expected)
+    fail("truncated: " + std::to_string(size) + " bytes, the header describes " + std::to_string(expected));
+  if (size > expected) fail("corrupted: " + std::to_string(size - expected) + " unexpected trailing bytes");
+
+  ReliefModel m;
+  m.gridSize = h.gridSize;
+  m.texels = h.texels;
+  m.distanceBits = h.distanceBits;
+  m.normalFormat = NormalFormat(h.normalFormat);
+  m.colorFormat = ColorFormat(h.colorFormat);
+  m.distanceMax = h.distanceMax;
+  m.originWS = Vec3d(h.originWS[0], h.originWS[1], h.originWS[2]);
+  m.cellSizeWS = h.cellSizeWS;
+  std::uint32_t crc = detail::crc32(&h, sizeof h);
+  auto readInto = [&](char* data, std::uint64_t bytes) {
+    in.read(data, std::streamsize(bytes));
+    if (!in) fail("truncated while reading");
+    crc = detail::crc32(data, bytes, crc);
+  };
+  m.cells.resize(h.cellCount);
+  readInto(reinterpret_cast<char*>(m.cells.data()), h.cellBytes);
+  const int L = int(layers);
+  if (layers > 0) {
+    if (m.distanceBits == 16) {
+      m.distances16 = ImageArray<std::uint16_t>(h.texels, h.texels, L, 1);
+      readInto(reinterpret_cast<char*>(m.distances16.levelData(0).data()), h.distanceBytes);
+    } else {
+      m.distances8 = ImageArray<std::uint8_t>(h.texels, h.texels, L, 1);
+      readInto(reinterpret_cast<char*>(m.distances8.levelData(0).data()), h.distanceBytes);
+    }
+    if (m.normalFormat == NormalFormat::Octahedral16) {
+      m.normals16 = ImageArray<std::uint16_t>(h.texels, h.texels, L, 2);
+      readInto(reinterpret_cast<char*>(m.normals16.levelData(0).data()), h.normalBytes);
+    } else if (m.normalFormat == NormalFormat::Rgba8) {
+      m.normals8 = ImageArray<std::uint8_t>(h.texels, h.texels, L, 4);
+      readInto(reinterpret_cast<char*>(m.normals8.levelData(0).data()), h.normalBytes);
+    }
+    if (m.colorFormat == ColorFormat::Rgba8) {
+      m.colors = ImageArray<std::uint8_t>(h.texels, h.texels, L, 4);
+      readInto(reinterpret_cast<char*>(m.colors.levelData(0).data()), h.colorBytes);
+    }
+  }
+  std::uint32_t stored = 0;
+  in.read(reinterpret_cast<char*>(&stored), 4);
+  if (!in) fail("truncated: the checksum is missing");
+  if (stored != crc) fail("checksum mismatch: the file is corrupted");
+  // The look-up table must describe the maps it comes with.
+  std::uint64_t nextLayer = 0;
+  for (std::size_t i = 0; i < m.cells.size(); ++i) {
+    const CellRecord& r = m.cells[i];
+    const Vec3i p = r.ijk();
+    const bool ok = p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
+                    r.projectionType <= 3 && (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
+                    r.firstLayer == nextLayer;
+    if (!ok) fail("corrupted look-up table at cell " + std::to_string(i));
+    nextLayer += std::popcount(unsigned(r.presentFaces));
+  }
+  if (nextLayer != layers) fail("corrupted look-up table (layer count mismatch)");
+  return m;
+}
+
+}  // namespace cellrelief::relief

@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT
+/// @file reconstruct.h
+/// Geometry-based reconstruction (Apaza & Andujar, 3.5.1): a triangle mesh rebuilt from the maps.
+/// Every 2 x 2 block of neighbouring samples of a face becomes two triangles (one when a corner is
+/// empty), each vertex unprojected with its stored distance. Level of detail L uses every 2^L-th
+/// sample, the vertex-centred mip level L of the maps, which keeps the face edges.
+///
+/// Cracks: within a face there are none. Faces of one cell that share an edge sample the same
+/// projection lines along it (vertex-centred samples), so their border vertices coincide and are
+/// welded. Between cells, where a projection line lies in the shared cell plane (parallel and
+/// planar faces, and faces whose centre or axis lies on that plane) both cells put vertices on the
+/// same curve where the surface crosses the plane, leaving only slivers between two chords of it;
+/// elsewhere a gap of at most one sample spacing can remain. reconstructionGap() in the accuracy
+/// figures includes all of them.
+#pragma once
+
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/core/parallel.h"
+#include "cellrelief/relief/relief_model.h"
+
+namespace cellrelief::relief {
+
+/// The largest level of detail: samples are taken every 2^L, so (T - 1) must divide by 2^L.
+inline int maxLevelOfDetail(const ReliefModel& model) {
+  int level = 0;
+  while (((model.texels - 1) % (2 << level)) == 0 && (model.texels - 1) / (2 << level) >= 1) ++level;
+  return level;
+}
+
+inline TriangleMesh reconstruct(const ReliefModel& model, int lod = 0) {
+  if (lod < 0 || lod > maxLevelOfDetail(model))
+    throw Error(ErrorKind::InvalidArgument,
+                "level of detail " + std::to_string(lod) + " is out of range (0 to " +
+                    std::to_string(maxLevelOfDetail(model)) + " for T = " +
+                    std::to_string(model.texels) + ")");
+  const int step = 1 << lod;
+  const int S = (model.texels - 1) / step + 1;  // samples per side at this level
+  struct Part {
+    std::vector<Vec3f> positions;
+    std::vector<Vec3f> normals;
+    std::vector<Color8> colors;
+    std::vector<Vec3u> triangles;
+  };
+  std::vector<Part> parts(model.cells.size());
+  parallelFor(0, model.cells.size(), [&](std::size_t ci) {
+    const CellRecord& r = model.cells[ci];
+    const auto proj = r.projection<double>();
+    Part& part = parts[ci];
+    // Weld within the cell: samples on a shared face edge unproject to the same point.
+    std::unordered_map<std::uint64_t, std::uint32_t> welded;
+    std::vector<std::int64_t> index(std::size_t(S) * S);
+    for (int f = 0; f < cells::kFaceCount; ++f) {
+      const int layer = r.layerOf(f);
+      if (layer < 0) continue;
+      for (int b = 0; b < S; ++b)
+        for (int a = 0; a < S; ++a) {
+          const float d = model.distance(layer, a * step, b * step);
+          std::int64_t& id = index[std::size_t(b) * S + a];
+          id = -1;
+          if (std::isnan(d)) continue;
+          const Vec2d uv(double(a * step) / (model.texels - 1), double(b * step) / (model.texels - 1));
+          const Vec3d p = proj.unproject(f, uv, double(d));
+          const bool onEdge = a == 0 || b == 0 || a == S - 1 || b == S - 1;
+          if (onEdge) {
+            // Key: the edge sample's 3D position on the unit cell's surface and its code.
+            const Vec3d onFace = projection::facePoint(f, uv);
+            const std::uint64_t key =
+                (std::uint64_t(std::lround(onFace.x * (model.texels - 1))) << 48) ^
+                (std::uint64_t(std::lround(onFace.y * (model.texels - 1))) << 32) ^
+                (std::uint64_t(std::lround(onFace.z * (model.texels - 1))) << 16) ^
+                std::uint64_t(model.distanceCode(layer, a * step, b * step));
+            const auto [it, inserted] = welded.try_emplace(key, std::uint32_t(part.positions.size()));
+            if (!inserted) {
+              id = it->second;
+              continue;
+            }
+          }
+          id = std::int64_t(part.positions.size());
+          part.positions.push_back(Vec3f(model.toWorld(r.ijk(), p)));
+          if (model.normalFormat != NormalFormat::None)
+            part.normals.push_back(model.normal(layer, a * step, b * step));
+          if (model.colorFormat == ColorFormat::Rgba8) {
+            Color8 c;
+            for (int k = 0; k < 4; ++k) c[k] = model.colors.at(a * step, b * step, layer, k);
+            part.colors.push_back(c);
+          }
+        }
+      // Two triangles per 2 x 2 block, one when a corner is empty. The winding follows the face's
+      // (u, v) frame, flipped on negative faces, so triangles face out of the cell.
+      const bool flip = cells::faceSign(f) < 0;
+      // Neighbouring samples that hit different sheets of surface (at an occlusion boundary) are
+      // not joined: an edge longer than kMaxEdgeSpacings sample spacings is a depth jump, not a
+      // slanted surface (that allows slopes up to about 75 degrees).
+      constexpr float kMaxEdgeSpacings = 4.0f;
+      const float maxEdge2 = std::pow(kMaxEdgeSpacings * float(step) * float(model.cellSizeWS) /
+                                          float(model.texels - 1), 2.0f);
+      auto emit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+        if (x == y || y == z || x == z) return;
+        const Vec3f &px = part.positions[x], &py = part.positions[y], &pz = part.positions[z];
+        if (glm::dot(px - py, px - py) > maxEdge2 || glm::dot(py - pz, py - pz) > maxEdge2 ||
+            glm::dot(pz - px, pz - px) > maxEdge2)
+          return;
+        part.triangles.push_back(flip ? Vec3u(std::uint32_t(x), std::uint32_t(z), std::uint32_t(y))
+                                      : Vec3u(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+      };
+      for (int b = 0; b + 1 < S; ++b)
+        for (int a = 0; a + 1 < S; ++a) {
+          const std::int64_t i00 = index[std::size_t(b) * S + a], i10 = index[std::size_t(b) * S + a + 1],
+                             i01 = index[std::size_t(b + 1) * S + a],
+                             i11 = index[std::size_t(b + 1) * S + a + 1];
+          const int present = (i00 >= 0) + (i10 >= 0) + (i01 >= 0) + (i11 >= 0);
+          if (present == 4) {
+            emit(i00, i10, i11);
+            emit(i00, i11, i01);
+          } else if (present == 3) {
+            if (i00 < 0) emit(i10, i11, i01);
+            else if (i10 < 0) emit(i00, i11, i01);
+            else if (i01 < 0) emit(i00, i10, i11);
+            else emit(i00, i10, i01);
+          }
+        }
+    }
+  }, 16);
+  TriangleMesh mesh;
+  std::size_t vertices = 0, triangles = 0;
+  for (const Part& p : parts) {
+    vertices += p.positions.size();
+    triangles += p.triangles.size();
+  }
+  mesh.positions.reserve(vertices);
+  mesh.triangles.reserve(triangles);
+  for (const Part& p : parts) {
+    const auto base = std::uint32_t(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), p.positions.begin(), p.positions.end());
+    mesh.normals.insert(mesh.normals.end(), p.normals.begin(), p.normals.end());
+    mesh.colors.insert(mesh.colors.end(), p.colors.begin(), p.colors.end());
+    for (const Vec3u& t : p.triangles) mesh.triangles.push_back(t + Vec3u(base));
+  }
+  mesh.sourcePolygons = mesh.triangles.size();
+  return mesh;
+}
+
+}  // namespace cellrelief::relief

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+/// @file relief_model.h
+/// The relief representation (Apaza & Andujar, 3.4): a look-up table of grey cells and, per domain
+/// face of every grey cell, a T x T distance map (plus normal and color maps when the mesh has those
+/// signals), stored as array textures with one layer per face, in the memory layout the GPU
+/// backends upload as is (docs/format.md).
+///
+/// Samples are vertex-centred: sample (a, b) of a face lies at face coordinates (a, b) / (T - 1), so
+/// the first and last samples lie on the face's edges. Two faces of a cell that share an edge then
+/// sample the same projection lines along it, and reconstructions of neighbouring faces meet.
+/// A GPU samples it with texture coordinate (uv (T - 1) + 0.5) / T.
+///
+/// Distances are in cell units (multiply by cellSizeWS for world units), quantized to 16 bits (or 8)
+/// over [0, distanceMax]; the largest code marks an empty sample (no surface projects there).
+/// Faces on which no surface projects get no layer at all.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "cellrelief/cells/configuration.h"
+#include "cellrelief/core/image.h"
+#include "cellrelief/core/math.h"
+#include "cellrelief/projection/choice.h"
+
+namespace cellrelief::relief {
+
+enum class NormalFormat : std::uint8_t {
+  None = 0,          ///< no normal map (shading from the distance gradient)
+  Rgba8 = 1,         ///< n * 0.5 + 0.5 in RGB, 8 bits each, alpha 255
+  Octahedral16 = 2,  ///< octahedral encoding, two 16-bit UNORM channels
+};
+enum class ColorFormat : std::uint8_t { None = 0, Rgba8 = 1 };
+
+/// One grey cell of the look-up table, 24 bytes, as a std430 struct of 32-bit words.
+struct CellRecord {
+  std::uint32_t packedIjk = 0;  ///< i | j << 10 | k << 20
+  std::uint8_t configuration = 0;
+  std::uint8_t projectionType = 0;  ///< projection::ProjectionType
+  std::uint8_t faceOrAxis = 0;      ///< parallel: the face; planar, axial: the axis
+  std::uint8_t presentFaces = 0;    ///< domain faces that have a layer (some surface projects there)
+  std::uint32_t firstLayer = 0;     ///< layer of its first present face; the others follow in face order
+  float point[3] = {0, 0, 0};       ///< perspective centre or a point of the axis, unit-cell coordinates
+
+  Vec3i ijk() const {
+    return {int(packedIjk & 1023u), int((packedIjk >> 10) & 1023u), int((packedIjk >> 20) & 1023u)};
+  }
+  static std::uint32_t packIjk(const Vec3i& p) {
+    return std::uint32_t(p.x) | (std::uint32_t(p.y) << 10) | (std::uint32_t(p.z) << 20);
+  }
+  /// Layer of face f, or -1 when the face has none.
+  int layerOf(int face) const {
+    if (!(presentFaces & (1u << face))) return -1;
+    return int(firstLayer) + std::popcount(unsigned(presentFaces & ((1u << face) - 1u)));
+  }
+  template <Real T>
+  projection::CellProjection<T> projection() const {
+    projection::CellProjection<T> p;
+    p.type = static_cast<projection::ProjectionType>(projectionType);
+    p.faceOrAxis = faceOrAxis;
+    p.point = Vec3<T>(point[0], point[1], point[2]);
+    p.faces = cells::domainFacesOf(configuration);
+    return p;
+  }
+};
+static_assert(sizeof(CellRecord) == 24);
+
+/// Octahedral encoding of a unit vector into [0, 1]^2 (Cigolle et al. 2014).
+inline Vec2f octahedralEncode(Vec3f n) {
+  n /= (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+  Vec2f e(n.x, n.y);
+  if (n.z < 0) {
+    e = (Vec2f(1) - glm::abs(Vec2f(n.y, n.x))) *
+        Vec2f(n.x >= 0 ? 1.0f : -1.0f, n.y >= 0 ? 1.0f : -1.0f);
+  }
+  return e * 0.5f + 0.5f;
+}
+inline Vec3f octahedralDecode(Vec2f e) {
+  e = e * 2.0f - 1.0f;
+  Vec3f n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
+  const float t = std::max(-n.z, 0.0f);
+  n.x += n.x >= 0 ? -t : t;
+  n.y += n.y >= 0 ? -t : t;
+  return glm::normalize(n);
+}
+
+struct ReliefModel {
+  int gridSize = 0;
+  Vec3d originWS{0};       ///< the bounding cube's minimum corner
+  double cellSizeWS = 0;
+  int texels = 0;          ///< T: samples per side of a face
+  int distanceBits = 16;   ///< 16 or 8
+  float distanceMax = 0;   ///< distance of the largest non-empty code, in cell units
+  NormalFormat normalFormat = NormalFormat::None;
+  ColorFormat colorFormat = ColorFormat::None;
+  std::vector<CellRecord> cells;    ///< sorted by (k, j, i)
+  ImageArray<std::uint16_t> distances16;  ///< when distanceBits == 16: 1 channel
+  ImageArray<std::uint8_t> distances8;    ///< when distanceBits == 8: 1 channel
+  ImageArray<std::uint16_t> normals16;    ///< Octahedral16: 2 channels
+  ImageArray<std::uint8_t> normals8;      ///< Rgba8: 4 channels
+  ImageArray<std::uint8_t> colors;        ///< Rgba8: 4 channels
+
+  int layerCount() const {
+    return distanceBits == 16 ? (distances16.isEmpty() ? 0 : distances16.layers())
+                              : (distances8.isEmpty() ? 0 : distances8.layers());
+  }
+  std::uint32_t emptyCode() const { return distanceBits == 16 ? 65535u : 255u; }
+  /// Code that stands for distanceMax.
+  std::uint32_t maxCode() const { return emptyCode() - 1; }
+
+  std::uint32_t distanceCode(int layer, int a, int b) const {
+    return distanceBits == 16 ? distances16.at(a, b, layer, 0) : distances8.at(a, b, layer, 0);
+  }
+  /// Distance in cell units at sample (a, b) of a layer; NaN when empty.
+  float distance(int layer, int a, int b) const {
+    const std::uint32_t code = distanceCode(layer, a, b);
+    if (code == emptyCode()) return std::numeric_limits<float>::quiet_NaN();
+    return float(double(code) / double(maxCode()) * double(distanceMax));
+  }
+  /// Largest error of the distance quantization, in cell units.
+  double quantizationError() const { return 0.5 * double(distanceMax) / double(maxCode()); }
+
+  Vec3f normal(int layer, int a, int b) const {
+    switch (normalFormat) {
+      case NormalFormat::Octahedral16:
+        return octahedralDecode(Vec2f(texelToFloat(normals16.at(a, b, layer, 0)),
+                                      texelToFloat(normals16.at(a, b, layer, 1))));
+      case NormalFormat::Rgba8:
+        return glm::normalize(Vec3f(texelToFloat(normals8.at(a, b, layer, 0)),
+                                    texelToFloat(normals8.at(a, b, layer, 1)),
+                                    texelToFloat(normals8.at(a, b, layer, 2))) * 2.0f - 1.0f);
+      case NormalFormat::None: break;
+    }
+    return Vec3f(0);
+  }
+
+  /// Bytes of the look-up table and the maps (what a GPU holds).
+  std::size_t byteSize() const {
+    return cells.size() * sizeof(CellRecord) + distances16.byteSize() + distances8.byteSize() +
+           normals16.byteSize() + normals8.byteSize() + colors.byteSize();
+  }
+  /// World position of the unit-cell point p of a cell.
+  Vec3d toWorld(const Vec3i& ijk, const Vec3d& p) const {
+    return originWS + (Vec3d(ijk) + p) * cellSizeWS;
+  }
+  double diagonalWS() const { return std::sqrt(3.0) * cellSizeWS * gridSize; }
+};
+
+}  // namespace cellrelief::relief
