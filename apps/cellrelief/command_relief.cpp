@@ -20,7 +20,7 @@ namespace {
 
 struct ConvertCli {
   std::string mesh, output, grid = "auto", texture, atlas, metric = "rms";
-  int texels = 33, bits = 16;
+  int texels = 17, bits = 16;
   double maxError = 0;
   bool centroid = false, measure = true, quiet = false;
 };

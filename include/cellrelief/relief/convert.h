@@ -24,7 +24,7 @@ namespace cellrelief::relief {
 
 struct ConvertOptions {
   int gridSize = 0;   ///< N; 0 chooses it from the occlusion ratio (grid_size.h)
-  int texels = 33;    ///< T: samples per face side (2^k + 1 keeps every mip level on the edges)
+  int texels = 17;    ///< T: samples per face side (2^k + 1 keeps every mip level on the edges)
   int distanceBits = 16;
   /// Normal maps only when the mesh has normals (a mesh that lacks them shades from the distance
   /// gradient); set forceNormals to store normals computed from the geometry anyway.
@@ -33,10 +33,10 @@ struct ConvertOptions {
   bool colors = true;                         ///< when the mesh has colors or a texture is given
   const Image<std::uint8_t>* texture = nullptr;  ///< sampled through the mesh's UVs
   projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
-  GridSizeOptions gridSearch = {};
+  GridSizeOptions gridSearch = {.threshold = 0.01, .maxGridSize = 64};
   std::size_t memoryLimitBytes = std::size_t(4) << 30;
   /// Called with the fraction done (0..1), from the calling thread, at most about 100 times.
-  std::function<void(double)> progress;
+  std::function<void(double)> progress = {};
 };
 
 struct ConvertReport {

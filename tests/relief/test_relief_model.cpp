@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: MIT
+// Conversion and reconstruction on analytic shapes, the file format's round trip and its errors.
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include <cellrelief/core/procedural.h>
+#include <cellrelief/metrics/geometric_error.h>
+#include <cellrelief/relief/atlas.h>
+#include <cellrelief/relief/convert.h>
+#include <cellrelief/relief/model_file.h>
+#include <cellrelief/relief/reconstruct.h>
+
+#include "test_support.h"
+
+namespace cellrelief::relief {
+namespace {
+
+TEST(Conversion, SphereDistancesAreExactPerSample) {
+  // A finely tessellated unit sphere: every reconstructed vertex lies on it, within the
+  // tessellation's sagitta and the 16-bit quantization.
+  TriangleMesh sphere = makeIcosphere(6);
+  sphere.normals.clear();
+  // The deepest point of the tessellation below the unit sphere: 1 - the nearest face plane.
+  double sagitta = 0;
+  for (const Vec3u& t : sphere.triangles) {
+    const Vec3d a(sphere.positions[t[0]]), b(sphere.positions[t[1]]), c(sphere.positions[t[2]]);
+    sagitta = std::max(sagitta, 1.0 - std::abs(glm::dot(a, glm::normalize(glm::cross(b - a, c - a)))));
+  }
+  ConvertReport report;
+  const ReliefModel model = convert(sphere, {.gridSize = 8, .texels = 17}, &report);
+  EXPECT_EQ(model.gridSize, 8);
+  EXPECT_GT(report.filledSamples, 0u);
+  const TriangleMesh rebuilt = reconstruct(model);
+  ASSERT_GT(rebuilt.triangleCount(), 10000u);
+  double worst = 0;
+  for (const Vec3f& p : rebuilt.positions) worst = std::max(worst, std::abs(double(glm::length(p)) - 1.0));
+  EXPECT_LT(worst, sagitta + model.quantizationError() * model.cellSizeWS + 1e-6);
+  EXPECT_GT(worst, 0.5 * sagitta);  // the bound is tight: samples do reach the flat faces' middles
+  // The sphere lacks normals and colors: neither is stored.
+  EXPECT_EQ(model.normalFormat, NormalFormat::None);
+  EXPECT_EQ(model.colorFormat, ColorFormat::None);
+  EXPECT_EQ(model.byteSize(), model.cells.size() * 24 + std::size_t(model.layerCount()) * 17 * 17 * 2);
+}
+
+TEST(Conversion, SignalsAreSampledWhenPresent) {
+  DisplacedSphereOptions o;
+  o.subdivisions = 5;
+  const TriangleMesh rock = makeDisplacedSphere(o);  // has normals and colors
+  const ReliefModel model = convert(rock, {.gridSize = 4, .texels = 9});
+  EXPECT_EQ(model.normalFormat, NormalFormat::Octahedral16);
+  EXPECT_EQ(model.colorFormat, ColorFormat::Rgba8);
+  // Normals point away from the centre, colors are the mesh's palette (not black).
+  int checked = 0;
+  for (const CellRecord& r : model.cells)
+    for (int f = 0; f < 6; ++f) {
+      const int layer = r.layerOf(f);
+      if (layer < 0) continue;
+      const double d = model.distance(layer, 4, 4);
+      if (std::isnan(d)) continue;
+      const Vec3d p = model.toWorld(r.ijk(), r.projection<double>().unproject(f, Vec2d(0.5), d));
+      EXPECT_GT(glm::dot(Vec3d(model.normal(layer, 4, 4)), glm::normalize(p)), 0.3);
+      EXPECT_GT(int(model.colors.at(4, 4, layer, 0)) + model.colors.at(4, 4, layer, 1), 50);
+      ++checked;
+    }
+  EXPECT_GT(checked, 20);
+  const ReliefModel plain = convert(rock, {.gridSize = 4, .texels = 9, .normals = NormalFormat::None, .colors = false});
+  EXPECT_LT(plain.byteSize(), model.byteSize() / 3);
+}
+
+TEST(Conversion, OctahedralNormalsRoundTrip) {
+  std::uint32_t s = 5;
+  auto rnd = [&] { return ((s = s * 1664525u + 1013904223u) >> 8) / double(1 << 24) * 2 - 1; };
+  for (int i = 0; i < 10000; ++i) {
+    const Vec3f n = glm::normalize(Vec3f(float(rnd()), float(rnd()), float(rnd())));
+    const Vec2f e = octahedralEncode(n);
+    const Vec2f q(dequantizeUnorm<std::uint16_t>(quantizeUnorm<std::uint16_t>(e.x)),
+                  dequantizeUnorm<std::uint16_t>(quantizeUnorm<std::uint16_t>(e.y)));
+    // The angle from the cross product: accurate for small angles, unlike acos of a float dot.
+    const Vec3d x = glm::normalize(Vec3d(octahedralDecode(q))), y = glm::normalize(Vec3d(n));
+    const double angle = std::atan2(glm::length(glm::cross(x, y)), glm::dot(x, y));
+    EXPECT_LT(angle, 1e-4);
+  }
+}
+
+TEST(Reconstruction, LevelsOfDetailAndCracksStaySmall) {
+  const TriangleMesh torus = makeTorus(1.0f, 0.4f, 256, 128);
+  const ReliefModel model = convert(torus, {.gridSize = 8, .texels = 17});
+  EXPECT_EQ(maxLevelOfDetail(model), 4);
+  std::size_t previous = std::numeric_limits<std::size_t>::max();
+  const metrics::DistanceField original(torus);
+  for (int lod = 0; lod <= 2; ++lod) {
+    const TriangleMesh m = reconstruct(model, lod);
+    EXPECT_LT(m.triangleCount(), previous);
+    previous = m.triangleCount();
+    const metrics::SurfaceError e = metrics::surfaceError(torus, original, m, 50000);
+    // Two-sided: the reconstruction lies on the torus and covers it (no large crack or hole).
+    EXPECT_LT(e.bToA.max, 0.01) << "lod " << lod;
+    EXPECT_LT(e.aToB.max, 0.05 * (1 << lod)) << "lod " << lod;
+  }
+  EXPECT_THROW(reconstruct(model, 5), Error);
+  EXPECT_THROW(reconstruct(model, -1), Error);
+}
+
+ReliefModel smallModel() {
+  DisplacedSphereOptions o;
+  o.subdivisions = 4;
+  return convert(makeDisplacedSphere(o), {.gridSize = 4, .texels = 9});
+}
+
+TEST(ModelFile, SaveThenLoadIsBitExact) {
+  test::TempDir dir;
+  const ReliefModel a = smallModel();
+  ASSERT_NE(a.normalFormat, NormalFormat::None);
+  writeRelief(a, dir / "m.crm");
+  const ReliefModel b = readRelief(dir / "m.crm");
+  EXPECT_EQ(b.gridSize, a.gridSize);
+  EXPECT_EQ(b.texels, a.texels);
+  EXPECT_EQ(b.originWS, a.originWS);
+  EXPECT_EQ(b.cellSizeWS, a.cellSizeWS);
+  EXPECT_EQ(b.distanceMax, a.distanceMax);
+  ASSERT_EQ(b.cells.size(), a.cells.size());
+  EXPECT_EQ(std::memcmp(b.cells.data(), a.cells.data(), a.cells.size() * sizeof(CellRecord)), 0);
+  auto same = [](const auto& x, const auto& y) {
+    return x.levelData(0).size() == y.levelData(0).size() &&
+           std::equal(x.levelData(0).begin(), x.levelData(0).end(), y.levelData(0).begin());
+  };
+  EXPECT_TRUE(same(a.distances16, b.distances16));
+  EXPECT_TRUE(same(a.normals16, b.normals16));
+  EXPECT_TRUE(same(a.colors, b.colors));
+  // Writing the loaded model again gives the same bytes.
+  writeRelief(b, dir / "again.crm");
+  EXPECT_EQ(test::readBytes(dir / "m.crm"), test::readBytes(dir / "again.crm"));
+  // 8-bit distances too.
+  const ReliefModel c = convert(makeIcosphere(3), {.gridSize = 4, .texels = 5, .distanceBits = 8});
+  writeRelief(c, dir / "c8.crm");
+  EXPECT_TRUE(same(c.distances8, readRelief(dir / "c8.crm").distances8));
+}
+
+void expectBadFile(const std::filesystem::path& path, const std::string& words) {
+  try {
+    readRelief(path);
+    FAIL() << "no error for " << path;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(ModelFile, TruncatedCorruptedAndWrongVersionFilesAreRejected) {
+  test::TempDir dir;
+  writeRelief(smallModel(), dir / "m.crm");
+  const std::string bytes = test::readBytes(dir / "m.crm");
+  for (std::size_t cut : {std::size_t(0), std::size_t(5), std::size_t(60), std::size_t(200),
+                          bytes.size() / 2, bytes.size() - 1}) {
+    test::writeBytes(dir / "cut.crm", bytes.substr(0, cut));
+    expectBadFile(dir / "cut.crm", cut < 12 ? "too short" : "truncated");
+  }
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x40;
+  test::writeBytes(dir / "flipped.crm", flipped);
+  expectBadFile(dir / "flipped.crm", "checksum mismatch");
+  std::string version = bytes;
+  version[8] = 2;
+  test::writeBytes(dir / "v2.crm", version);
+  expectBadFile(dir / "v2.crm", "version 2, this build reads version 1");
+  std::string magic = bytes;
+  magic[0] = 'X';
+  test::writeBytes(dir / "magic.crm", magic);
+  expectBadFile(dir / "magic.crm", "not a cellrelief model");
+  test::writeBytes(dir / "long.crm", bytes + "xyz");
+  expectBadFile(dir / "long.crm", "trailing bytes");
+  std::string counts = bytes;
+  counts[16] = char(counts[16] + 1);  // grid size changes: the checksum catches it
+  test::writeBytes(dir / "counts.crm", counts);
+  expectBadFile(dir / "counts.crm", "checksum");
+  expectBadFile(dir / "absent.crm", "no such file");
+}
+
+TEST(ModelFile, FailedWritesLeaveNothing) {
+  test::TempDir dir;
+  EXPECT_THROW(writeRelief(smallModel(), dir / "no/such/dir/m.crm"), Error);
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(Atlas, WritesOneTilePerLayer) {
+  test::TempDir dir;
+  const ReliefModel m = smallModel();
+  const auto files = writeAtlases(m, dir / "atlas");
+  ASSERT_EQ(files.size(), 3u);  // distance, normal, color
+  for (const auto& f : files) EXPECT_TRUE(std::filesystem::exists(f));
+}
+
+}  // namespace
+}  // namespace cellrelief::relief
