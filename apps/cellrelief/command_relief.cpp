@@ -20,7 +20,7 @@ namespace {
 
 struct ConvertCli {
   std::string mesh, output, grid = "auto", texture, atlas, metric = "rms";
-  int texels = 17, bits = 16;
+  int texels = 0, bits = 16;
   double maxError = 0;
   bool centroid = false, measure = true, quiet = false;
 };
@@ -147,8 +147,9 @@ Command addConvertCommand(CLI::App& app) {
   cmd->add_option("mesh", o->mesh, "Mesh file (.obj .ply .off .stl)")->required();
   cmd->add_option("-o,--output", o->output, "The model file to write (.crm)")->required();
   cmd->add_option("--grid", o->grid, "Cells per side N, or 'auto'")->capture_default_str();
-  cmd->add_option("--texels", o->texels, "Samples per face side T (2^k + 1 keeps levels of detail)")
-      ->check(CLI::Range(2, 1025))
+  cmd->add_option("--texels", o->texels,
+                  "Samples per face side T (2^k + 1 keeps levels of detail); 0: clamp(512 / N, 8, 64) + 1")
+      ->check(CLI::Range(0, 1025))
       ->capture_default_str();
   cmd->add_option("--bits", o->bits, "Distance quantization: 16 or 8")
       ->check(CLI::IsMember({8, 16}))

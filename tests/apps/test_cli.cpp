@@ -113,5 +113,41 @@ TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
   }
 }
 
+TEST(Cli, ConvertAndReconstruct) {
+  const auto mesh = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  const auto texture = test::dataDir() / "meshes/small/spot_texture__cinolib.png";
+  CELLRELIEF_REQUIRE_FILE(mesh);
+  CELLRELIEF_REQUIRE_FILE(texture);
+  test::TempDir dir;
+  const Result r = run("convert " + mesh.string() + " -o " + (dir / "spot.crm").string() +
+                       " --grid 8 --texels 17 --texture " + texture.string() + " --atlas " +
+                       (dir / "atlas").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* words : {"N = 8", "layers of 17 x 17", "colors", "bytes", "time", "error         rms"})
+    EXPECT_NE(r.output.find(words), std::string::npos) << words << " not in " << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "atlas/color.png"));
+  const Result back = run("reconstruct " + (dir / "spot.crm").string() + " -o " +
+                          (dir / "spot.ply").string() + " --lod 1");
+  ASSERT_EQ(back.status, 0) << back.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "spot.ply"));
+  const Result bounded = run("convert " + mesh.string() + " -o " + (dir / "b.crm").string() +
+                             " --max-error 0.002 --no-error");
+  ASSERT_EQ(bounded.status, 0) << bounded.output;
+  EXPECT_NE(bounded.output.find("meets the bound"), std::string::npos) << bounded.output;
+  // Bad input: a clear error, non-zero exit, no output file.
+  test::writeBytes(dir / "broken.crm", test::readBytes(dir / "spot.crm").substr(0, 100));
+  const std::pair<std::string, std::string> cases[] = {
+      {"reconstruct " + (dir / "broken.crm").string() + " -o " + (dir / "x.ply").string(), "truncated"},
+      {"reconstruct " + (dir / "spot.crm").string() + " -o " + (dir / "y.ply").string() + " --lod 9", "out of range"},
+      {"convert " + mesh.string() + " -o " + (dir / "z.crm").string() + " --grid 0", "--grid"},
+      {"convert " + (dir / "absent.obj").string() + " -o " + (dir / "w.crm").string(), "no such file"}};
+  for (const auto& [args, words] : cases) {
+    const Result e = run(args);
+    EXPECT_NE(e.status, 0) << args;
+    EXPECT_NE(e.output.find(words), std::string::npos) << e.output;
+  }
+  for (const char* name : {"x.ply", "y.ply", "z.crm", "w.crm"}) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
+}
+
 }  // namespace
 }  // namespace cellrelief

@@ -24,7 +24,9 @@ namespace cellrelief::relief {
 
 struct ConvertOptions {
   int gridSize = 0;   ///< N; 0 chooses it from the occlusion ratio (grid_size.h)
-  int texels = 17;    ///< T: samples per face side (2^k + 1 keeps every mip level on the edges)
+  /// T: samples per face side (2^k + 1 keeps every mip level on the edges); 0 picks
+  /// T = clamp(512 / N, 8, 64) + 1, about the same sample spacing for every N.
+  int texels = 0;
   int distanceBits = 16;
   /// Normal maps only when the mesh has normals (a mesh that lacks them shades from the distance
   /// gradient); set forceNormals to store normals computed from the geometry anyway.
@@ -46,6 +48,9 @@ struct ConvertReport {
   double quantizationErrorWS = 0;
   std::vector<GridSizeTrial> gridTrials;
 };
+
+/// The default T for grid size N: about 512 samples across the bounding cube, 9 to 65 per face.
+inline int defaultTexels(int n) { return std::clamp(512 / std::max(1, n), 8, 64) + 1; }
 
 namespace detail {
 /// Where a face sample's projection line goes: from P' to `end` (unit-cell coordinates).
@@ -70,10 +75,9 @@ Vec3d projectionLineEnd(const Proj& proj, int face, const Vec3d& onFace) {
 inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& options = {},
                            ConvertReport* report = nullptr) {
   const auto start = std::chrono::steady_clock::now();
-  const int T = options.texels;
-  if (T < 2 || T > 1025)
+  if (options.texels != 0 && (options.texels < 2 || options.texels > 1025))
     throw Error(ErrorKind::InvalidArgument,
-                "texels T = " + std::to_string(T) + " is out of range (2 to 1025)");
+                "texels T = " + std::to_string(options.texels) + " is out of range (2 to 1025)");
   if (options.distanceBits != 16 && options.distanceBits != 8)
     throw Error(ErrorKind::InvalidArgument, "distance bits must be 8 or 16");
   ConvertReport local;
@@ -85,6 +89,7 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
     n = choice.gridSize;
     rep.gridTrials = choice.trials;
   }
+  const int T = options.texels != 0 ? options.texels : defaultTexels(n);
   const cells::CellComplex complex =
       cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
   const auto grey = complex.greyCells();
