@@ -15,7 +15,7 @@ TEST(Occlusion, AStarShapedSurfaceHasNoneFromItsCentre) {
   const cells::CellComplex one = cells::CellComplex::build(sphere, {.gridSize = 1});
   const OcclusionEstimate e = estimateOcclusion(sphere, one, {}, query);
   EXPECT_EQ(e.ratio, 0.0);
-  EXPECT_NEAR(e.totalArea, surfaceArea(sphere) / (2.0 * 2.0), 1e-6 * e.totalArea);
+  EXPECT_NEAR(e.totalArea, surfaceArea(sphere) / (2.0 * 2.0), 0.01 * e.totalArea);  // sampled
   const GridSizeChoice choice = chooseGridSize(sphere, {});
   EXPECT_EQ(choice.gridSize, 1);
   EXPECT_TRUE(choice.metThreshold);
@@ -50,7 +50,7 @@ TEST(Occlusion, NMaxStopsTheSearch) {
   EXPECT_EQ(choice.gridSize, 2);
   EXPECT_FALSE(choice.metThreshold);
   ASSERT_EQ(choice.trials.size(), 2u);  // 1, 2
-  EXPECT_NEAR(choice.trials[0].occlusionRatio, choice.trials[1].occlusionRatio, 1e-3);
+  EXPECT_NEAR(choice.trials[0].occlusionRatio, choice.trials[1].occlusionRatio, 5e-3);
   EXPECT_THROW(chooseGridSize(torus, {.threshold = 0}), Error);
   EXPECT_THROW(chooseGridSize(torus, {.maxGridSize = 0}), Error);
 }

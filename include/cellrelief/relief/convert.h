@@ -83,9 +83,10 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   ConvertReport local;
   ConvertReport& rep = report ? *report : local;
 
+  const MeshRayQuery query(mesh);
   int n = options.gridSize;
   if (n == 0) {
-    const GridSizeChoice choice = chooseGridSize(mesh, options.gridSearch);
+    const GridSizeChoice choice = chooseGridSize(mesh, options.gridSearch, &query);
     n = choice.gridSize;
     rep.gridTrials = choice.trials;
   }
@@ -109,7 +110,6 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   const bool wantColors = options.colors && (mesh.hasColors() || textured);
   const std::vector<Vec3f> vertexNormals =
       wantNormals ? (mesh.hasNormals() ? mesh.normals : computeVertexNormals(mesh)) : std::vector<Vec3f>{};
-  const MeshRayQuery query(mesh);
 
   // Per cell: its projection and, per domain face, T x T samples (distance, normal, color).
   struct CellSamples {

@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -55,7 +56,11 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
                                            const OcclusionOptions& options,
                                            const MeshRayQuery& query) {
   const int T = options.texels;
-  const double density = options.samplesPerTexel * T * T;
+  // Samples per unit of area (cell units): the texel density, but at least kMinSamples in all so
+  // that coarse grids (few, large cells) are estimated as well as fine ones.
+  constexpr double kMinSamples = 20000;
+  const double areaInCells = surfaceArea(mesh) / (complex.cellSizeWS() * complex.cellSizeWS());
+  const double density = std::max(options.samplesPerTexel * T * T, kMinSamples / std::max(areaInCells, 1e-30));
   constexpr double kSelfOffset = 1e-9;  // along the segment, in cell units
   struct Scratch {
     std::vector<SurfaceSample> samples;
@@ -116,8 +121,9 @@ struct GridSizeChoice {
 };
 
 /// Doubles N from 1 until the occlusion ratio is below the threshold or N reaches N_max, and
-/// reports the ratio of every N tried.
-inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOptions& options = {}) {
+/// reports the ratio of every N tried. `query` is the mesh's ray query (built when absent).
+inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOptions& options = {},
+                                     const MeshRayQuery* query = nullptr) {
   if (options.maxGridSize < 1 || options.maxGridSize > cells::kMaxGridSize)
     throw Error(ErrorKind::InvalidArgument,
                 "N_max = " + std::to_string(options.maxGridSize) + " is out of range (1 to " +
@@ -125,13 +131,14 @@ inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOpt
   if (!(options.threshold > 0 && options.threshold < 1))
     throw Error(ErrorKind::InvalidArgument, "the occlusion threshold must lie in (0, 1)");
   GridSizeChoice choice;
-  const MeshRayQuery query(mesh);
+  std::optional<MeshRayQuery> own;
+  if (!query) query = &own.emplace(mesh);
   for (int n = 1;; n *= 2) {
     n = std::min(n, options.maxGridSize);
     const auto start = std::chrono::steady_clock::now();
     const cells::CellComplex complex =
         cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
-    const OcclusionEstimate est = estimateOcclusion(mesh, complex, options.occlusion, query);
+    const OcclusionEstimate est = estimateOcclusion(mesh, complex, options.occlusion, *query);
     choice.trials.push_back({n, est.ratio, complex.stats().grey,
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
                                  .count()});

@@ -23,9 +23,11 @@ struct SurfaceSample {
   std::uint32_t triangle;  ///< the mesh triangle it lies on
 };
 
-/// Appends samples of the triangles meeting `cell`: about `density` samples per unit of area (in
-/// cell units), at least one per triangle and at most `maxPerTriangle`; samples falling outside
-/// the closed cell are dropped (other cells sample those parts).
+/// Appends samples of the triangles meeting `cell`: `density` samples per unit of area (in cell
+/// units) in expectation, at most `maxPerTriangle` per triangle, each standing for 1 / density of
+/// area. A triangle smaller than one sample's share gets one with probability area x density (a
+/// fixed hash of the triangle decides), so meshes much finer than the sampling cost no more than
+/// coarse ones. Samples falling outside the closed cell are dropped (other cells sample them).
 inline void sampleCellSurface(const cells::CellComplex& complex, std::span<const Vec3u> triangles,
                               const cells::GreyCell& cell, double density, int maxPerTriangle,
                               std::vector<SurfaceSample>& out) {
@@ -37,8 +39,11 @@ inline void sampleCellSurface(const cells::CellComplex& complex, std::span<const
     const Vec3d a = positions[tri[0]] - origin, b = positions[tri[1]] - origin,
                 c = positions[tri[2]] - origin;
     const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-    const int k = int(std::clamp(std::ceil(area * density), 1.0, double(maxPerTriangle)));
-    const double weight = area / k;
+    const double expected = area * density;
+    const double jitter = std::fmod(0.5 + kAlpha1 * double(t), 1.0);  // a fixed hash in [0, 1)
+    const int k = int(std::min(std::floor(expected + jitter), double(maxPerTriangle)));
+    if (k <= 0) continue;
+    const double weight = expected > maxPerTriangle ? area / k : 1.0 / density;
     for (int i = 0; i < k; ++i) {
       double r1 = std::fmod(0.5 + kAlpha1 * (i + 1), 1.0), r2 = std::fmod(0.5 + kAlpha2 * (i + 1), 1.0);
       if (r1 + r2 > 1.0) {
