@@ -111,6 +111,10 @@ int main(int argc, char** argv) {
       ls = measureLevelSet(mesh, field, voxel, diagonal, samples);
       if (ls.rms <= rms) break;
     }
+    if (ls.rms > rms)
+      std::printf("  (%s: no level set down to voxel %.3g reached our RMS; the closest is shown%s)\n",
+                  name.c_str(), ls.voxel,
+                  mesh.triangleCount() > 0 && name == "bunny" ? "; meshToLevelSet needs a closed mesh" : "");
     std::printf("%-11s %9zu %4d %3d %8.3fs %10s %8.4f %8.4f | %10.3g %7.3fs %10s %8.4f | %6.1f %7.1f | %9.4f\n",
                 name.c_str(), mesh.triangleCount(), model.gridSize, model.texels, seconds,
                 std::to_string(model.byteSize()).c_str(), 100 * rms, 100 * hausdorff, ls.voxel,

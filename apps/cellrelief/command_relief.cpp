@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <memory>
 
+#include <unistd.h>
+
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/metrics/geometric_error.h>
@@ -62,7 +64,8 @@ int runConvert(const ConvertCli& o) {
     if (!mesh.hasUVs()) throw Error(ErrorKind::InvalidInput, o.mesh, "a texture needs UVs, and the mesh has none");
     co.texture = &texture;
   }
-  if (!o.quiet && mesh.triangleCount() > 100000) co.progress = progressBar;
+  // A bar that redraws in place makes sense on a terminal only; logs get the summary.
+  if (!o.quiet && mesh.triangleCount() > 100000 && ::isatty(2)) co.progress = progressBar;
 
   relief::ReliefModel model;
   relief::ConvertReport report;
