@@ -78,12 +78,15 @@ TEST(Cli, InfoReportsTopology) {
 
 TEST(Cli, DemoWritesTheBuiltInModel) {
   test::TempDir dir;
-  const Result r = run("demo --subdivisions 4 -o " + (dir / "out").string());
+  const Result r = run("demo --tube-segments 40 -o " + (dir / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_TRUE(std::filesystem::exists(dir / "out/displaced_sphere.ply"));
-  EXPECT_NE(r.output.find("5120 (from"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("genus                 0"), std::string::npos) << r.output;
-  const Result own = run("demo " + (dir / "out/displaced_sphere.ply").string() + " -o " +
+  for (const char* file : {"displaced_torus.ply", "displaced_torus.png", "displaced_torus.crm",
+                           "displaced_torus_relief.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / file)) << file;
+  EXPECT_NE(r.output.find("5120 (from"), std::string::npos) << r.output;  // 64 x 40 x 2
+  EXPECT_NE(r.output.find("genus                 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("RMS error"), std::string::npos) << r.output;
+  const Result own = run("demo " + (dir / "out/displaced_torus.ply").string() + " -o " +
                          (dir / "own").string());
   EXPECT_EQ(own.status, 0) << own.output;
   const Result bad = run("demo " + (dir / "absent.ply").string() + " -o " + (dir / "x").string());

@@ -53,5 +53,14 @@ TEST(Procedural, DisplacedSphereHasFineDetailAndStaysASphere) {
   EXPECT_EQ(makeDisplacedSphere(o).positions[1234], m.positions[1234]);
 }
 
+TEST(Procedural, DisplacedTorusIsTheDemoModel) {
+  const TriangleMesh m = makeDisplacedTorus();
+  EXPECT_EQ(m.triangleCount(), 327680u);
+  const MeshTopology t = analyzeTopology(m);
+  EXPECT_EQ(t.genus, 1);
+  EXPECT_EQ(t.degenerateTriangles, 0u);
+  ASSERT_TRUE(m.hasNormals() && m.hasColors());
+}
+
 }  // namespace
 }  // namespace cellrelief

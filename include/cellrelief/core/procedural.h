@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file procedural.h
 /// Meshes the library makes itself: analytic shapes for exact tests (sphere, torus) and the demo
-/// model, a sphere displaced by multi-octave gradient noise so that it carries real fine detail
+/// model, a torus displaced by multi-octave gradient noise so that it carries real fine detail
 /// (ridges smaller than a cell) without shipping any data.
 #pragma once
 
@@ -141,16 +141,18 @@ struct DisplacedSphereOptions {
   std::uint32_t seed = 7;
 };
 
-/// The built-in demo model: an icosphere displaced along its normals by ridged multi-octave noise
-/// (sharp crests, fine grooves), with vertex normals and colors that follow the height.
-inline TriangleMesh makeDisplacedSphere(const DisplacedSphereOptions& o = {}) {
-  TriangleMesh m = makeIcosphere(o.subdivisions, 1.0f);
-  const GradientNoise noise(o.seed);
+namespace detail {
+/// Displaces every vertex along its unit direction `directions[i]` by ridged multi-octave noise
+/// sampled at `noisePoints[i]`; sets normals and height-following colors.
+inline void displaceWithRidgedNoise(TriangleMesh& m, const std::vector<Vec3f>& directions,
+                                    const std::vector<Vec3f>& noisePoints, float amplitude,
+                                    float baseFrequency, int octaves, std::uint32_t seed) {
+  const GradientNoise noise(seed);
   std::vector<float> heights(m.positions.size());
   parallelFor(0, m.positions.size(), [&](std::size_t i) {
-    const Vec3f p = m.positions[i];
-    float sum = 0, amp = 1, freq = o.baseFrequency, norm = 0;
-    for (int k = 0; k < o.octaves; ++k) {
+    const Vec3f p = noisePoints[i];
+    float sum = 0, amp = 1, freq = baseFrequency, norm = 0;
+    for (int k = 0; k < octaves; ++k) {
       const float ridge = 1.0f - std::abs(noise(p * freq + Vec3f(float(k) * 17.3f)));
       sum += amp * ridge * ridge;
       norm += amp;
@@ -158,7 +160,7 @@ inline TriangleMesh makeDisplacedSphere(const DisplacedSphereOptions& o = {}) {
       freq *= 2.0f;
     }
     heights[i] = sum / norm;  // in [0, 1]
-    m.positions[i] = p * (o.radius * (1.0f + o.amplitude * (heights[i] - 0.5f)));
+    m.positions[i] += directions[i] * (amplitude * (heights[i] - 0.5f));
   });
   m.normals = computeVertexNormals(m);
   m.colors.resize(m.positions.size());
@@ -168,6 +170,38 @@ inline TriangleMesh makeDisplacedSphere(const DisplacedSphereOptions& o = {}) {
     const Vec3f c = h < 0.5f ? glm::mix(low, mid, h * 2.0f) : glm::mix(mid, high, h * 2.0f - 1.0f);
     m.colors[i] = Color8(glm::round(c * 255.0f), 255);
   }
+}
+}  // namespace detail
+
+/// A sphere displaced along its normals by ridged multi-octave noise (sharp crests, fine grooves),
+/// with vertex normals and colors that follow the height.
+inline TriangleMesh makeDisplacedSphere(const DisplacedSphereOptions& o = {}) {
+  TriangleMesh m = makeIcosphere(o.subdivisions, 1.0f);
+  const std::vector<Vec3f> directions = m.positions;
+  for (Vec3f& p : m.positions) p *= o.radius;
+  detail::displaceWithRidgedNoise(m, directions, directions, o.amplitude * o.radius,
+                                  o.baseFrequency, o.octaves, o.seed);
+  return m;
+}
+
+struct DisplacedTorusOptions {
+  float majorRadius = 1.0f;
+  float minorRadius = 0.4f;
+  int ringSegments = 512;   ///< 512 x 320 x 2 = 327,680 triangles
+  int tubeSegments = 320;
+  float amplitude = 0.08f;  ///< largest displacement, relative to the major radius
+  float baseFrequency = 2.5f;
+  int octaves = 7;
+  std::uint32_t seed = 7;
+};
+
+/// The built-in demo model: a torus (not star-shaped, genus 1, so the cell complex has work to
+/// do) displaced along its normals by ridged multi-octave noise.
+inline TriangleMesh makeDisplacedTorus(const DisplacedTorusOptions& o = {}) {
+  TriangleMesh m = makeTorus(o.majorRadius, o.minorRadius, o.ringSegments, o.tubeSegments);
+  const std::vector<Vec3f> directions = m.normals;
+  detail::displaceWithRidgedNoise(m, directions, m.positions, o.amplitude * o.majorRadius,
+                                  o.baseFrequency, o.octaves, o.seed);
   return m;
 }
 
