@@ -21,16 +21,12 @@ using namespace cellrelief;
 
 int main(int argc, char** argv) {
   CLI::App app{"Cell complex classification versus OpenVDB meshToLevelSet", "bench_cells"};
-  std::string data = CELLRELIEF_DATA_DIR;
-  std::string out = "out/bench";
-  bool quick = false;
-  int threads = 0;
-  app.add_option("--data", data, "Test data folder (../shared/data)")->capture_default_str();
-  app.add_option("--out", out, "Where the CSV goes")->capture_default_str();
-  app.add_flag("--quick", quick, "Small mesh, one repeat: a smoke run");
-  app.add_option("--threads", threads, "Worker threads (0: all cores)");
+  bench::BenchOptions options;
+  options.addTo(app);
   CLI11_PARSE(app, argc, argv);
-  const ThreadLimit limit{std::size_t(threads)};
+  const ThreadLimit limit{std::size_t(options.threads)};
+  const std::string& data = options.data;
+  const bool quick = options.quick;
   openvdb::initialize();
 
   struct Case {
@@ -54,7 +50,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const int repeats = quick ? 1 : 3;
-  bench::CsvWriter csv(std::filesystem::path(out) / "cells.csv",
+  bench::CsvWriter csv(std::filesystem::path(options.out) / "cells.csv",
                        "mesh,triangles,N,cells_s,grey,black,white,meshToLevelSet_s,active_voxels,ratio");
   std::printf("\n%-12s %10s %5s %10s %9s %9s %14s %12s %8s\n", "mesh", "triangles", "N",
               "cells [s]", "grey", "black", "meshToLS [s]", "LS voxels", "ratio");

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <openvdb/tools/MeshToVolume.h>
@@ -20,6 +21,22 @@
 #include <cellrelief/core/triangle_mesh.h>
 
 namespace cellrelief::bench {
+
+/// The options every benchmark takes: where the data is, where the CSV goes, a quick smoke mode,
+/// and the worker thread count (0: all cores).
+struct BenchOptions {
+  std::string data = CELLRELIEF_DATA_DIR;
+  std::string out = "out/bench";
+  bool quick = false;
+  int threads = 0;
+
+  void addTo(CLI::App& app) {
+    app.add_option("--data", data, "Test data folder (../shared/data)")->capture_default_str();
+    app.add_option("--out", out, "Where the CSV goes")->capture_default_str();
+    app.add_flag("--quick", quick, "Small mesh, one repeat: a smoke run");
+    app.add_option("--threads", threads, "Worker threads (0: all cores)");
+  }
+};
 
 /// Median wall time in seconds of `repeats` runs of `work`.
 inline double medianSeconds(int repeats, const std::function<void()>& work) {

@@ -58,15 +58,12 @@ LevelSetPoint measureLevelSet(const TriangleMesh& mesh, const metrics::DistanceF
 int main(int argc, char** argv) {
   CLI::App app{"Relief conversion: time, memory, error; OpenVDB level sets at matched error",
                "bench_relief"};
-  std::string data = CELLRELIEF_DATA_DIR, out = "out/bench";
-  bool quick = false;
-  int threads = 0;
-  app.add_option("--data", data, "Test data folder")->capture_default_str();
-  app.add_option("--out", out, "Where the CSV goes")->capture_default_str();
-  app.add_flag("--quick", quick, "One small mesh: a smoke run");
-  app.add_option("--threads", threads, "Worker threads (0: all cores)");
+  bench::BenchOptions options;
+  options.addTo(app);
   CLI11_PARSE(app, argc, argv);
-  const ThreadLimit limit{std::size_t(threads)};
+  const ThreadLimit limit{std::size_t(options.threads)};
+  const std::string& data = options.data;
+  const bool quick = options.quick;
   openvdb::initialize();
 
   std::vector<std::pair<std::string, TriangleMesh>> meshes;
@@ -86,7 +83,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const std::size_t samples = quick ? 20000 : 100000;
-  bench::CsvWriter csv(std::filesystem::path(out) / "relief.csv",
+  bench::CsvWriter csv(std::filesystem::path(options.out) / "relief.csv",
                        "mesh,triangles,N,T,convert_s,bytes,rms,hausdorff,ls_voxel,ls_s,ls_bytes,ls_rms,"
                        "time_ratio,memory_ratio,centroid_rms");
   std::printf("%-11s %9s %4s %3s %9s %10s %8s %8s | %10s %8s %10s %8s | %6s %7s | %9s\n", "mesh",

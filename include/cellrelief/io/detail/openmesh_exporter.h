@@ -10,25 +10,13 @@
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/Mesh/BaseKernel.hh>
 
+#include "cellrelief/io/detail/openmesh_types.h"
 #include "cellrelief/core/triangle_mesh.h"
 
 namespace cellrelief::io::detail {
 
-class SoupExporter final : public OpenMesh::IO::BaseExporter {
+class SoupExporter final : public OpenMesh::IO::BaseExporter, private OpenMeshTypes {
  public:
-  using VertexHandle = OpenMesh::VertexHandle;
-  using FaceHandle = OpenMesh::FaceHandle;
-  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
-  using EdgeHandle = OpenMesh::EdgeHandle;
-  using Vec2f = OpenMesh::Vec2f;
-  using Vec3f = OpenMesh::Vec3f;
-  using Vec3d = OpenMesh::Vec3d;
-  using Vec4f = OpenMesh::Vec4f;
-  using Vec3uc = OpenMesh::Vec3uc;
-  using Vec4uc = OpenMesh::Vec4uc;
-  using Vec3ui = OpenMesh::Vec3ui;
-  using Vec4ui = OpenMesh::Vec4ui;
-  using Status = OpenMesh::Attributes::StatusInfo;
 
   explicit SoupExporter(const TriangleMesh& mesh) : mMesh(mesh) {}
 

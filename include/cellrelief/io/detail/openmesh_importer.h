@@ -12,6 +12,7 @@
 
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 
+#include "cellrelief/io/detail/openmesh_types.h"
 #include "cellrelief/core/math.h"
 
 namespace cellrelief::io::detail {
@@ -30,19 +31,8 @@ struct PolygonSoup {
   std::size_t polygonCount() const { return offsets.size() - 1; }
 };
 
-class SoupImporter final : public OpenMesh::IO::BaseImporter {
+class SoupImporter final : public OpenMesh::IO::BaseImporter, private OpenMeshTypes {
  public:
-  using VertexHandle = OpenMesh::VertexHandle;
-  using FaceHandle = OpenMesh::FaceHandle;
-  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
-  using EdgeHandle = OpenMesh::EdgeHandle;
-  using Vec2f = OpenMesh::Vec2f;
-  using Vec3f = OpenMesh::Vec3f;
-  using Vec3d = OpenMesh::Vec3d;
-  using Vec4f = OpenMesh::Vec4f;
-  using Vec3uc = OpenMesh::Vec3uc;
-  using Vec4uc = OpenMesh::Vec4uc;
-  using Status = OpenMesh::Attributes::StatusInfo;
 
   explicit SoupImporter(PolygonSoup& soup) : mSoup(soup) {}
 
