@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+/// @file camera.h
+/// A pinhole camera set up with look-at, producing one primary ray per pixel centre.
+#pragma once
+
+#include <cmath>
+
+#include "cellrelief/core/ray.h"
+
+namespace cellrelief::render {
+
+struct Camera {
+  Vec3d eye{0, 0, 3};
+  Vec3d target{0};
+  Vec3d up{0, 1, 0};
+  double verticalFovDegrees = 40;
+
+  /// A camera looking at a sphere (centre, radius) from direction (yaw, pitch), framing it.
+  static Camera framing(const Vec3d& centre, double radius, double yawDegrees = 35,
+                        double pitchDegrees = 20, double fovDegrees = 40) {
+    const double yaw = yawDegrees * M_PI / 180, pitch = pitchDegrees * M_PI / 180;
+    const Vec3d dir(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+    const double distance = radius / std::sin(0.5 * fovDegrees * M_PI / 180) * 1.05;
+    return {centre + distance * dir, centre, Vec3d(0, 1, 0), fovDegrees};
+  }
+
+  /// The ray through the centre of pixel (x, y) of a width x height image (y down).
+  Rayd primaryRay(int x, int y, int width, int height) const {
+    const Vec3d forward = glm::normalize(target - eye);
+    const Vec3d right = glm::normalize(glm::cross(forward, up));
+    const Vec3d trueUp = glm::cross(right, forward);
+    const double tanHalf = std::tan(0.5 * verticalFovDegrees * M_PI / 180);
+    const double aspect = double(width) / double(height);
+    const double sx = (2.0 * (x + 0.5) / width - 1.0) * tanHalf * aspect;
+    const double sy = (1.0 - 2.0 * (y + 0.5) / height) * tanHalf;
+    return Rayd(eye, glm::normalize(forward + sx * right + sy * trueUp));
+  }
+};
+
+}  // namespace cellrelief::render
