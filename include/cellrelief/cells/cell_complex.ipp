@@ -24,6 +24,8 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
                                                 std::to_string(kMaxGridSize) + ")");
   if (mesh.triangles.empty())
     throw Error(ErrorKind::InvalidInput, "the mesh has no triangles: nothing to classify");
+  if (mesh.triangles.size() >= (std::size_t(1) << 31))
+    throw Error(ErrorKind::ResourceLimit, "2^31 triangles or more: over what one complex indexes");
   mesh.validate("mesh");
   const std::size_t estimate = estimateMemory(mesh.triangles.size(), n);
   if (estimate > options.memoryLimitBytes)
@@ -96,6 +98,8 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
       std::vector<std::uint64_t>().swap(v);
     }
   }
+  if (keys.size() >= (std::size_t(1) << 32))
+    throw Error(ErrorKind::ResourceLimit, "over 2^32 cell-triangle pairs: use a smaller N");
   tbb::parallel_sort(keys.begin(), keys.end());
 
   // Grey cells with their triangle lists (CSR), and the dense scratch labels.

@@ -96,7 +96,7 @@ class TriangleBvh {
   std::size_t triangleCount() const { return mIds.size(); }
   std::size_t nodeCount() const { return mNodes.size(); }
 
-  /// True when the ray meets a triangle other than `skip` with t in [tmin, tmax].
+  /// True when the ray meets a triangle other than `skip` with t in [tmin, tmax).
   bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
     bool found = false;
     traverse(ray, [&](std::uint32_t i, Hit<T>& hit) {
@@ -145,7 +145,7 @@ class TriangleBvh {
     return {best, bestId};
   }
 
-  /// The nearest hit with t in [tmin, tmax] (hit.valid() is false when there is none); primId is
+  /// The nearest hit with t in [tmin, tmax) (hit.valid() is false when there is none); primId is
   /// the index of the triangle in the input.
   Hit<T> closestHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
     Hit<T> best;

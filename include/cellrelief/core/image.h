@@ -111,8 +111,15 @@ class ImageArray {
   }
 
   /// Samples layer `layer` of level `level` at uv (texel centres at (i + 0.5) / size).
+  /// Non-finite coordinates read texel (0, 0); huge ones are reduced before any integer cast.
   Vec4f sample(Vec2f uv, int layer, const Sampler& sampler = {}, int level = 0) const {
     const int w = width(level), h = height(level);
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return fetch(0, 0, layer, level);
+    if (sampler.wrap == Wrap::Repeat) {
+      uv -= glm::floor(uv);  // into [0, 1): the same texels, and no overflow below
+    } else {
+      uv = glm::clamp(uv, Vec2f(-1.0f), Vec2f(2.0f));
+    }
     const float x = uv.x * static_cast<float>(w), y = uv.y * static_cast<float>(h);
     if (sampler.filter == Filter::Nearest) {
       const int ix = wrapIndex(static_cast<int>(std::floor(x)), w, sampler.wrap);
@@ -174,9 +181,12 @@ class ImageArray {
   double boxAverage(const Level& src, int layer, int c, double x0, double x1, double y0,
                     double y1) const {
     double sum = 0, weight = 0;
-    for (int y = static_cast<int>(y0); y < static_cast<int>(std::ceil(y1)); ++y) {
+    // ceil() of a product that rounds just above the size must not step past the last texel.
+    const int yEnd = std::min(static_cast<int>(std::ceil(y1)), src.height);
+    const int xEnd = std::min(static_cast<int>(std::ceil(x1)), src.width);
+    for (int y = static_cast<int>(y0); y < yEnd; ++y) {
       const double wy = std::min<double>(y + 1, y1) - std::max<double>(y, y0);
-      for (int x = static_cast<int>(x0); x < static_cast<int>(std::ceil(x1)); ++x) {
+      for (int x = static_cast<int>(x0); x < xEnd; ++x) {
         const double wx = std::min<double>(x + 1, x1) - std::max<double>(x, x0);
         const std::size_t i =
             (((std::size_t(layer) * src.height + y) * src.width) + x) * mChannels + c;

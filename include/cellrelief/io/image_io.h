@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <string>
 #include <variant>
@@ -84,7 +85,8 @@ inline ImageFile readImage(const std::filesystem::path& path) {
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                          std::istreambuf_iterator<char>());
   if (bytes.empty()) throw Error(ErrorKind::FileFormat, path, "file is empty");
-  if (bytes.size() > (1ull << 31)) throw Error(ErrorKind::ResourceLimit, path, "file over 2 GiB");
+  if (bytes.size() > std::size_t(std::numeric_limits<int>::max()))
+    throw Error(ErrorKind::ResourceLimit, path, "file of 2 GiB or more");
 
   ImageFile result;
   result.format = detail::imageFormat(bytes);
@@ -109,10 +111,11 @@ inline ImageFile readImage(const std::filesystem::path& path) {
                 "image size " + std::to_string(w) + "x" + std::to_string(h) + " is out of range");
   auto copyInto = [&](auto* pixels, auto& image) {
     std::copy(pixels, pixels + std::size_t(w) * h * comp, image.levelData(0).begin());
-    stbi_image_free(pixels);
   };
+  using StbPixels = std::unique_ptr<void, void (*)(void*)>;  // freed even if Image throws
   if (stbi_is_16_bit_from_memory(data, size)) {
     stbi_us* pixels = stbi_load_16_from_memory(data, size, &w, &h, &comp, 0);
+    const StbPixels owner(pixels, stbi_image_free);
     if (!pixels)
       throw Error(ErrorKind::FileFormat, path,
                   std::string("cannot decode 16-bit image: ") + stbi_failure_reason());
@@ -121,6 +124,7 @@ inline ImageFile readImage(const std::filesystem::path& path) {
     result.pixels = std::move(im);
   } else {
     stbi_uc* pixels = stbi_load_from_memory(data, size, &w, &h, &comp, 0);
+    const StbPixels owner(pixels, stbi_image_free);
     if (!pixels)
       throw Error(ErrorKind::FileFormat, path,
                   std::string("cannot decode image: ") + stbi_failure_reason());

@@ -37,7 +37,8 @@ struct ConvertOptions {
   projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
   GridSizeOptions gridSearch = {.threshold = 0.01, .maxGridSize = 64};
   std::size_t memoryLimitBytes = std::size_t(4) << 30;
-  /// Called with the fraction done (0..1), from the calling thread, at most about 100 times.
+  /// Called with the fraction done (0..1), about 100 times, from worker threads but never two at
+  /// once, with values that never decrease.
   std::function<void(double)> progress = {};
 };
 
@@ -86,7 +87,9 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   const MeshRayQuery query(mesh);
   int n = options.gridSize;
   if (n == 0) {
-    const GridSizeChoice choice = chooseGridSize(mesh, options.gridSearch, &query);
+    GridSizeOptions search = options.gridSearch;
+    search.memoryLimitBytes = std::min(search.memoryLimitBytes, options.memoryLimitBytes);
+    const GridSizeChoice choice = chooseGridSize(mesh, search, &query);
     n = choice.gridSize;
     rep.gridTrials = choice.trials;
   }
@@ -96,7 +99,9 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   const auto grey = complex.greyCells();
   std::size_t maxLayers = 0;
   for (const cells::GreyCell& g : grey) maxLayers += std::popcount(unsigned(g.domainFaces()));
-  const std::size_t sampleBytes = maxLayers * std::size_t(T) * T * (4 + 4 + 4);
+  // Per sample while sampling: a float distance, a Vec3f normal, a Color8; then the quantized
+  // maps (2 + 4 + 4 bytes at most) exist at the same time.
+  const std::size_t sampleBytes = maxLayers * std::size_t(T) * T * (4 + 12 + 4 + 2 + 4 + 4);
   if (sampleBytes > options.memoryLimitBytes)
     throw Error(ErrorKind::ResourceLimit,
                 "N = " + std::to_string(n) + ", T = " + std::to_string(T) + " needs about " +
@@ -122,6 +127,7 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   std::vector<CellSamples> samples(grey.size());
   std::atomic<std::size_t> done{0};
   std::mutex progressMutex;
+  double reported = 0;
   const double h = complex.cellSizeWS();
   parallelFor(0, grey.size(), [&](std::size_t ci) {
     const cells::GreyCell& cell = grey[ci];
@@ -184,7 +190,8 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
     const std::size_t finished = ++done;
     if (options.progress && finished % std::max<std::size_t>(1, grey.size() / 100) == 0) {
       std::unique_lock lock(progressMutex, std::try_to_lock);
-      if (lock.owns_lock()) options.progress(double(finished) / double(grey.size()));
+      const double fraction = double(finished) / double(grey.size());
+      if (lock.owns_lock() && fraction > reported) options.progress(reported = fraction);
     }
   }, 4);
 

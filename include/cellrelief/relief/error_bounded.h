@@ -70,7 +70,13 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const Er
     co.gridSize = c.gridSize;
     co.texels = c.texels;
     co.progress = nullptr;
-    ReliefModel model = convert(mesh, co);
+    ReliefModel model;
+    try {
+      model = convert(mesh, co);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::ResourceLimit) throw;
+      continue;  // over the memory limit after all: skip it, keep what was measured
+    }
     const TriangleMesh rebuilt = reconstruct(model);
     const metrics::SurfaceError e = metrics::surfaceError(mesh, original, rebuilt, o.samplesPerSide);
     c.converted = true;

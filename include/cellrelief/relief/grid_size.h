@@ -9,8 +9,8 @@
 /// Estimate: the surface of every grey cell is sampled (surface_samples.h) at about
 /// `samplesPerTexel` samples per texel of a T x T map. A sample is occluded when the segment from
 /// it to its projection on the domain face (every projection line is straight: parallel, planar,
-/// from a centre, or perpendicular to an axis) crosses another triangle of the same cell: nearer
-/// surface covers its texel. Testing the segment, rather than comparing depths within a texel,
+/// from a centre, or perpendicular to an axis) crosses another triangle: the segment lies inside
+/// the cell, so any triangle it meets is surface of that cell covering the sample's texel. Testing the segment, rather than comparing depths within a texel,
 /// keeps a single sheet seen at a grazing angle from counting as occluded.
 #pragma once
 
@@ -61,16 +61,20 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
   constexpr double kMinSamples = 20000;
   const double areaInCells = surfaceArea(mesh) / (complex.cellSizeWS() * complex.cellSizeWS());
   const double density = std::max(options.samplesPerTexel * T * T, kMinSamples / std::max(areaInCells, 1e-30));
-  constexpr double kSelfOffset = 1e-9;  // along the segment, in cell units
+  // Along the segment: past the 2^-21-cell snapping of sample positions, so a sample on an edge
+  // shared with the next triangle does not see that triangle as occluding it.
+  constexpr double kSelfOffset = 1e-6;
   struct Scratch {
     std::vector<SurfaceSample> samples;
-    OcclusionEstimate sum;
   };
+  // Per-cell sums, added in cell order afterwards: the estimate does not depend on scheduling.
+  std::vector<OcclusionEstimate> perCell(complex.greyCells().size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   const auto greyCells = complex.greyCells();
   const double h = complex.cellSizeWS();
   parallelFor(0, greyCells.size(), [&](std::size_t i) {
     Scratch& s = scratch.local();
+    OcclusionEstimate& sum = perCell[i];
     const cells::GreyCell& cell = greyCells[i];
     s.samples.clear();
     sampleCellSurface(complex, mesh.triangles, cell, density, 16 * T * T, s.samples);
@@ -79,22 +83,22 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
         cell.configuration, options.centre, sampleCentroid(s.samples));
     const Vec3d cellMinWS = complex.cellMinWS(cell.ijk);
     for (const SurfaceSample& sample : s.samples) {
-      s.sum.totalArea += sample.weight;
+      sum.totalArea += sample.weight;
       const projection::FacePoint<double> fp = proj.project(sample.p);
       const Vec3d target = projection::facePoint(fp.face, fp.uv);
       const Vec3d dir = target - sample.p;
       if (glm::dot(dir, dir) == 0) continue;
       // The segment from the sample to its face point, in world space (t in (0, 1]).
       const Rayd segment(cellMinWS + h * sample.p, h * dir, kSelfOffset, 1.0);
-      if (query.bvh.anyHit(segment, sample.triangle)) s.sum.occludedArea += sample.weight;
+      if (query.bvh.anyHit(segment, sample.triangle)) sum.occludedArea += sample.weight;
     }
-    s.sum.samples += s.samples.size();
+    sum.samples += s.samples.size();
   }, 16);
   OcclusionEstimate total;
-  for (const Scratch& s : scratch) {
-    total.totalArea += s.sum.totalArea;
-    total.occludedArea += s.sum.occludedArea;
-    total.samples += s.sum.samples;
+  for (const OcclusionEstimate& c : perCell) {
+    total.totalArea += c.totalArea;
+    total.occludedArea += c.occludedArea;
+    total.samples += c.samples;
   }
   total.ratio = total.totalArea > 0 ? total.occludedArea / total.totalArea : 0.0;
   return total;
@@ -135,6 +139,11 @@ inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOpt
   if (!query) query = &own.emplace(mesh);
   for (int n = 1;; n *= 2) {
     n = std::min(n, options.maxGridSize);
+    if (cells::CellComplex::estimateMemory(mesh.triangles.size(), n) > options.memoryLimitBytes) {
+      if (choice.trials.empty())
+        throw Error(ErrorKind::ResourceLimit, "even N = 1 exceeds the memory limit");
+      break;  // the largest N that fits is the answer
+    }
     const auto start = std::chrono::steady_clock::now();
     const cells::CellComplex complex =
         cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});

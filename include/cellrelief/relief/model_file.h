@@ -17,6 +17,8 @@
 #include <span>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -131,7 +133,8 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   const std::uint64_t layers = h.layerCount;
   const bool sane = h.gridSize >= 1 && h.gridSize <= 1024 && h.texels >= 2 && h.texels <= 1025 &&
                     (h.distanceBits == 8 || h.distanceBits == 16) && h.normalFormat <= 2 &&
-                    h.colorFormat <= 1 && h.cellCount <= (1ull << 30) && layers <= (6ull << 30) &&
+                    h.colorFormat <= 1 && h.cellCount <= (1ull << 30) && layers <= 6 * h.cellCount &&
+                    layers <= std::uint64_t(std::numeric_limits<int>::max()) &&
                     std::isfinite(h.distanceMax) && h.distanceMax > 0 && h.cellSizeWS > 0;
   if (!sane) fail("corrupted header (values out of range)");
   const std::uint64_t samples = layers * T * T;
@@ -194,9 +197,22 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   for (std::size_t i = 0; i < m.cells.size(); ++i) {
     const CellRecord& r = m.cells[i];
     const Vec3i p = r.ijk();
-    const bool ok = p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
-                    r.projectionType <= 3 && (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
-                    r.firstLayer == nextLayer;
+    // The projection must be the one its configuration chooses (type and face or axis), with a
+    // finite point in the cell: nothing downstream then indexes out of range.
+    bool ok = p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
+              (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
+              r.firstLayer == nextLayer;
+    if (ok) {
+      const auto expected = projection::chooseProjection<double>(r.configuration);
+      ok = r.projectionType == std::uint8_t(expected.type) &&
+           (expected.type == projection::ProjectionType::Perspective ||
+            r.faceOrAxis == std::uint8_t(expected.faceOrAxis));
+      for (const float c : r.point) ok = ok && std::isfinite(c) && c >= 0.0f && c <= 1.0f;
+    }
+    if (i > 0 && ok) {  // sorted by (k, j, i), no cell twice
+      const Vec3i q = m.cells[i - 1].ijk();
+      ok = std::tie(q.z, q.y, q.x) < std::tie(p.z, p.y, p.x);
+    }
     if (!ok) fail("corrupted look-up table at cell " + std::to_string(i));
     nextLayer += std::popcount(unsigned(r.presentFaces));
   }

@@ -72,7 +72,10 @@ inline Image<std::uint8_t> decodeRleBmp(const std::vector<unsigned char>& b, std
     } else if (value == 1) {  // end of bitmap
       done = true;
     } else if (value == 2) {  // delta
-      if (p + 1 >= b.size()) break;
+      if (p + 1 >= b.size()) {
+        problem = "RLE BMP delta goes past the end of the file (truncated file)";
+        return {};
+      }
       x += b[p];
       y += b[p + 1];
       p += 2;
@@ -86,7 +89,7 @@ inline Image<std::uint8_t> decodeRleBmp(const std::vector<unsigned char>& b, std
         put(bits == 8 ? b[p + k] : (k % 2 == 0 ? b[p + k / 2] >> 4 : b[p + k / 2] & 15));
       p += bytes + (bytes & 1);
     }
-    if (y > height) done = true;
+    if (y >= height || x > 1 << 20) done = true;  // past the last row: nothing more to place
   }
   Image<std::uint8_t> image(width, height, 3);
   for (int row = 0; row < height; ++row) {

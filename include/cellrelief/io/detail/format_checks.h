@@ -120,13 +120,17 @@ inline void checkOff(const std::filesystem::path& path) {
   }
 }
 
-/// A binary STL is exactly 84 + 50 n bytes; an ASCII one ends with `endsolid`.
+/// A binary STL has at least 84 + 50 n bytes (some writers pad); an ASCII one ends with `endsolid`.
 inline void checkStl(const std::filesystem::path& path) {
   const auto size = std::filesystem::file_size(path);
   std::ifstream in(path, std::ios::binary);
   char head[84] = {};
   in.read(head, sizeof head);
-  const bool ascii = std::strncmp(head, "solid", 5) == 0 && [&] {
+  std::uint32_t declared = 0;
+  std::memcpy(&declared, head + 80, 4);
+  // A binary file of exactly the declared size is binary even when its header says "solid".
+  const bool exactBinary = size >= 84 && size == 84 + 50ull * declared;
+  const bool ascii = !exactBinary && std::strncmp(head, "solid", 5) == 0 && [&] {
     std::ifstream text(path);
     std::string all((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
     return all.find("facet") != std::string::npos || size < 84;

@@ -192,13 +192,15 @@ inline PlyScan scanPly(const std::string& path) {
             continue;
           }
           if (!body.read(p.countSize, false, false, v)) truncated();
-          if (v < 0 || v > 1e9) fail("element '" + e.name + "' has a list of " +
-                                     std::to_string(v) + " items");
+          if (!(v >= 0 && v <= 1e9))  // also NaN
+            fail("element '" + e.name + "' has a list of " + std::to_string(v) + " items");
           const auto n = static_cast<std::uint64_t>(v);
           const bool keep = strips && p.name == "vertex_indices";
           for (std::uint64_t k = 0; k < n; ++k) {
             if (!body.read(p.size, p.isFloat, p.isSigned, v)) truncated();
             if (!keep) continue;
+            if (!(v < 4294967295.0))
+              fail("strip index " + std::to_string(v) + " is out of range");
             if (v < 0) {  // -1 restarts the strip
               appendStrip(strip, scan.stripTriangles);
               strip.clear();
