@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Images and array textures: GPU-style sampling, wrap modes, mip chains, memory layout.
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <gtest/gtest.h>
@@ -68,6 +70,26 @@ TEST(Image, MipChainOfOddSizesKeepsTheMean) {
   // Area-weighted box filter: every level has the same mean as the base.
   EXPECT_NEAR(im.at(0, 0, 0, 2), sum / 15, 1e-5);
   EXPECT_NEAR((im.at(0, 0, 0, 1) + im.at(1, 0, 0, 1)) / 2, sum / 15, 1e-5);
+}
+
+TEST(Image, MipChainOfAwkwardOddSizesStaysInside) {
+  // Sizes whose footprint products round up past the last texel (27, 29, 55, ...).
+  for (int w : {27, 29, 31, 47, 55}) {
+    Image<float> im(w, 3, 1, 1.0f);
+    im.generateMips();
+    for (int level = 0; level < im.levelCount(); ++level)
+      for (int x = 0; x < im.width(level); ++x) ASSERT_NEAR(im.at(x, 0, 0, level), 1.0f, 1e-6f) << w;
+  }
+}
+
+TEST(Image, NonFiniteAndHugeCoordinatesAreSafe) {
+  const Image<float> im = ramp(4, 4);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const Sampler s : {Sampler{Filter::Bilinear, Wrap::Repeat}, Sampler{Filter::Nearest, Wrap::Clamp}}) {
+    EXPECT_TRUE(std::isfinite(im.sample(Vec2f(std::nanf(""), 0.5f), s).r));
+    EXPECT_TRUE(std::isfinite(im.sample(Vec2f(inf, -inf), s).r));
+    EXPECT_TRUE(std::isfinite(im.sample(Vec2f(3e9f, -7e12f), s).r));
+  }
 }
 
 TEST(ImageArray, LevelMemoryIsLayerRowColumnChannel) {

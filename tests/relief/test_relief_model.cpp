@@ -177,6 +177,34 @@ TEST(ModelFile, TruncatedCorruptedAndWrongVersionFilesAreRejected) {
   expectBadFile(dir / "absent.crm", "no such file");
 }
 
+TEST(ModelFile, CraftedTablesWithAValidChecksumAreRejected) {
+  // A hostile file passes the CRC (it is recomputed) but its cell table would index out of range.
+  test::TempDir dir;
+  writeRelief(smallModel(), dir / "m.crm");
+  std::string bytes = test::readBytes(dir / "m.crm");
+  auto recrc = [](std::string& b) {
+    const std::uint32_t crc = io::detail::crc32(b.data(), b.size() - 4);
+    std::memcpy(b.data() + b.size() - 4, &crc, 4);
+  };
+  std::string axis = bytes;
+  axis[112 + 6] = char(255);  // faceOrAxis of the first cell
+  recrc(axis);
+  test::writeBytes(dir / "axis.crm", axis);
+  expectBadFile(dir / "axis.crm", "corrupted look-up table at cell 0");
+  std::string point = bytes;
+  const float nan = std::nanf("");
+  std::memcpy(point.data() + 112 + 12, &nan, 4);
+  recrc(point);
+  test::writeBytes(dir / "point.crm", point);
+  expectBadFile(dir / "point.crm", "corrupted look-up table at cell 0");
+  std::string layers = bytes;
+  const std::uint64_t huge = (std::uint64_t(1) << 32) + 1;
+  std::memcpy(layers.data() + 72, &huge, 8);
+  recrc(layers);
+  test::writeBytes(dir / "layers.crm", layers);
+  expectBadFile(dir / "layers.crm", "corrupted header");
+}
+
 TEST(ModelFile, FailedWritesLeaveNothing) {
   test::TempDir dir;
   EXPECT_THROW(writeRelief(smallModel(), dir / "no/such/dir/m.crm"), Error);

@@ -203,10 +203,10 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
               (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
               r.firstLayer == nextLayer;
     if (ok) {
-      const auto expected = projection::chooseProjection<double>(r.configuration);
-      ok = r.projectionType == std::uint8_t(expected.type) &&
-           (expected.type == projection::ProjectionType::Perspective ||
-            r.faceOrAxis == std::uint8_t(expected.faceOrAxis));
+      const auto chosen = projection::chooseProjection<double>(r.configuration);
+      // (Perspective cells store 0 there.)
+      ok = r.projectionType == std::uint8_t(chosen.type) &&
+           r.faceOrAxis == std::uint8_t(std::max(0, chosen.faceOrAxis));
       for (const float c : r.point) ok = ok && std::isfinite(c) && c >= 0.0f && c <= 1.0f;
     }
     if (i > 0 && ok) {  // sorted by (k, j, i), no cell twice
