@@ -56,6 +56,8 @@ struct ReliefHeader {
   std::uint64_t colorBytes;
 };
 static_assert(sizeof(ReliefHeader) == 112);
+static_assert(std::endian::native == std::endian::little,
+              "the .crm format is little-endian and is read by copying host-order structs");
 
 template <class T>
 std::span<const char> bytesOf(const ImageArray<T>& image) {
