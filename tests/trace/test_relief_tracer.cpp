@@ -21,8 +21,9 @@ double raySphere(const Rayd& ray) {
 TEST(ReliefTracer, SphereDepthMatchesTheAnalyticIntersection) {
   TriangleMesh sphere = makeIcosphere(7);
   sphere.normals.clear();
-  // N = 16 still fails (about 30 of 9,216 rays miss the front surface where it crosses a cell
-  // boundary next to interior cells, and hit the back): open work of the traversal issue.
+  // N = 16 still fails: 14 of 9,216 rays that graze the top cross the surface exactly where it
+  // lies in a shared cell face, miss it on both sides and hit the back. Open work of the
+  // traversal issue (a side test carried across cell boundaries).
   for (int n : {1, 4}) {
     const relief::ReliefModel model = relief::convert(sphere, {.gridSize = n, .texels = 33});
     const ReliefTracer tracer(model);

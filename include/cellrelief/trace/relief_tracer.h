@@ -149,10 +149,16 @@ class ReliefTracer {
     const Vec3d dirUnit = glm::normalize(ray.direction);
     const double slant = face >= 0 ? std::abs(glm::dot(dirUnit, Vec3d(cells::faceNormal(face)))) : 1.0;
     const double lengthCells = (t1 - t0) * glm::length(ray.direction) / h;
-    const int linear = std::clamp(
-        int(std::ceil(lengthCells * (mOptions.minLinearSteps +
-                                     (1.0 - slant) * (mOptions.maxLinearSteps - mOptions.minLinearSteps)))),
-        2, mOptions.maxLinearSteps);
+    // Parallel and planar cells have one projection direction, so f changes monotonically with
+    // depth and the slant rule applies. Perspective and axial cells switch faces along the ray,
+    // and the region behind the surface can be a thin sliver next to a face: they always take
+    // the full number of steps.
+    const bool singleDirection = proj.type == projection::ProjectionType::Parallel ||
+                                 proj.type == projection::ProjectionType::Planar;
+    const double perCell = singleDirection
+        ? mOptions.minLinearSteps + (1.0 - slant) * (mOptions.maxLinearSteps - mOptions.minLinearSteps)
+        : double(mOptions.maxLinearSteps);
+    const int linear = std::clamp(int(std::ceil(lengthCells * perCell)), 2, mOptions.maxLinearSteps);
     double tPrev = t0;
     std::uint32_t steps = 1;
     for (int i = 1; i <= linear; ++i) {
