@@ -13,6 +13,7 @@
 #include <tbb/combinable.h>
 
 #include "cellrelief/core/bvh.h"
+#include "cellrelief/core/low_discrepancy.h"
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/core/triangle_mesh.h"
 
@@ -48,19 +49,13 @@ inline std::vector<Vec3d> sampleSurface(const TriangleMesh& mesh, std::size_t co
   const double total = cumulative.back();
   if (total <= 0 || count == 0) return out;
   out.resize(count);
-  constexpr double kAlpha1 = 0.7548776662466927, kAlpha2 = 0.5698402909980532;
   parallelFor(0, count, [&](std::size_t i) {
     const double target = (double(i) + 0.5) / double(count) * total;
     const std::size_t f = std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), target) -
                                       cumulative.begin()) - 1;
     const Vec3u& t = mesh.triangles[std::min(f, mesh.triangles.size() - 1)];
-    double r1 = std::fmod(0.5 + kAlpha1 * double(i + 1), 1.0), r2 = std::fmod(0.5 + kAlpha2 * double(i + 1), 1.0);
-    if (r1 + r2 > 1) {
-      r1 = 1 - r1;
-      r2 = 1 - r2;
-    }
-    const Vec3d a(mesh.positions[t[0]]), b(mesh.positions[t[1]]), c(mesh.positions[t[2]]);
-    out[i] = a + r1 * (b - a) + r2 * (c - a);
+    out[i] = pointInTriangle(Vec3d(mesh.positions[t[0]]), Vec3d(mesh.positions[t[1]]),
+                             Vec3d(mesh.positions[t[2]]), r2Point(i + 1));
   });
   return out;
 }

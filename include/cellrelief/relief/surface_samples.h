@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cellrelief/cells/cell_complex.h"
+#include "cellrelief/core/low_discrepancy.h"
 #include "cellrelief/core/math.h"
 
 namespace cellrelief::relief {
@@ -31,7 +32,6 @@ struct SurfaceSample {
 inline void sampleCellSurface(const cells::CellComplex& complex, std::span<const Vec3u> triangles,
                               const cells::GreyCell& cell, double density, int maxPerTriangle,
                               std::vector<SurfaceSample>& out) {
-  constexpr double kAlpha1 = 0.7548776662466927, kAlpha2 = 0.5698402909980532;  // R2 sequence
   const std::span<const Vec3d> positions = complex.snappedPositionsIS();
   const Vec3d origin(cell.ijk);
   for (const std::uint32_t t : complex.cellTriangles(cell)) {
@@ -40,17 +40,12 @@ inline void sampleCellSurface(const cells::CellComplex& complex, std::span<const
                 c = positions[tri[2]] - origin;
     const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
     const double expected = area * density;
-    const double jitter = std::fmod(0.5 + kAlpha1 * double(t), 1.0);  // a fixed hash in [0, 1)
+    const double jitter = r2Point(t).x;  // a fixed hash of the triangle in [0, 1)
     const int k = int(std::min(std::floor(expected + jitter), double(maxPerTriangle)));
     if (k <= 0) continue;
     const double weight = expected > maxPerTriangle ? area / k : 1.0 / density;
     for (int i = 0; i < k; ++i) {
-      double r1 = std::fmod(0.5 + kAlpha1 * (i + 1), 1.0), r2 = std::fmod(0.5 + kAlpha2 * (i + 1), 1.0);
-      if (r1 + r2 > 1.0) {
-        r1 = 1.0 - r1;
-        r2 = 1.0 - r2;
-      }
-      const Vec3d p = a + r1 * (b - a) + r2 * (c - a);
+      const Vec3d p = pointInTriangle(a, b, c, r2Point(std::size_t(i) + 1));
       if (p.x < 0 || p.y < 0 || p.z < 0 || p.x > 1 || p.y > 1 || p.z > 1) continue;
       out.push_back({p, weight, t});
     }
