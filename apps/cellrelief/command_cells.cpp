@@ -62,8 +62,8 @@ int runCells(const CellsOptions& o) {
   relief::OcclusionOptions occlusion;
   if (o.centroid) occlusion.centre = projection::CentreOfProjection::SurfaceCentroid;
 
-  int n = 0;
-  if (o.grid == "auto") {
+  int n = parseGridSize(o.grid);
+  if (n == 0) {
     relief::GridSizeOptions g;
     g.threshold = o.threshold;
     g.maxGridSize = o.maxGrid;
@@ -77,15 +77,6 @@ int runCells(const CellsOptions& o) {
     n = choice.gridSize;
     std::printf("chosen N      %d%s\n", n,
                 choice.metThreshold ? "" : " (N_max reached before the threshold)");
-  } else {
-    try {
-      std::size_t used = 0;
-      n = std::stoi(o.grid, &used);
-      if (used != o.grid.size()) throw std::invalid_argument(o.grid);
-    } catch (const std::exception&) {
-      throw Error(ErrorKind::InvalidArgument,
-                  "--grid takes a whole number or 'auto', not '" + o.grid + "'");
-    }
   }
 
   const cells::CellComplex complex = cells::CellComplex::build(mesh, {.gridSize = n});

@@ -26,6 +26,18 @@ std::string formatBytes(double bytes) {
   return buffer;
 }
 
+int parseGridSize(const std::string& grid) {
+  if (grid == "auto") return 0;
+  try {
+    std::size_t used = 0;
+    const int n = std::stoi(grid, &used);
+    if (used == grid.size() && n >= 1) return n;
+  } catch (const std::exception&) {
+  }
+  throw Error(ErrorKind::InvalidArgument,
+              "--grid takes a whole number >= 1 or 'auto', not '" + grid + "'");
+}
+
 namespace {
 
 void printImageInfo(const std::string& path) {

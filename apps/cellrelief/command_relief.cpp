@@ -27,17 +27,6 @@ struct ConvertCli {
   bool centroid = false, measure = true, quiet = false;
 };
 
-int parseGrid(const std::string& grid) {
-  if (grid == "auto") return 0;
-  try {
-    std::size_t used = 0;
-    const int n = std::stoi(grid, &used);
-    if (used == grid.size() && n >= 1) return n;
-  } catch (const std::exception&) {
-  }
-  throw Error(ErrorKind::InvalidArgument, "--grid takes a whole number >= 1 or 'auto', not '" + grid + "'");
-}
-
 /// A progress bar on stderr that redraws in place.
 void progressBar(double fraction) {
   const int width = 40, filled = int(fraction * width + 0.5);
@@ -85,7 +74,7 @@ int runConvert(const ConvertCli& o) {
     if (!r.met) std::printf("  no candidate met the bound: keeping the most accurate one\n");
     model = std::move(r.model);
   } else {
-    co.gridSize = parseGrid(o.grid);
+    co.gridSize = parseGridSize(o.grid);
     model = relief::convert(mesh, co, &report);
     for (const auto& t : report.gridTrials)
       std::printf("grid search   N = %4d occlusion %.5f\n", t.gridSize, t.occlusionRatio);

@@ -30,4 +30,7 @@ void printMeshInfo(const std::string& path);
 /// A byte count as "1.23 MiB".
 std::string formatBytes(double bytes);
 
+/// The value of --grid: a whole number N >= 1, or 0 for "auto". Throws Error otherwise.
+int parseGridSize(const std::string& grid);
+
 }  // namespace cellrelief::app
