@@ -17,6 +17,7 @@
 #include "cellrelief/core/aabb.h"
 #include "cellrelief/core/error.h"
 #include "cellrelief/core/hit.h"
+#include "cellrelief/core/triangle_mesh.h"
 
 namespace cellrelief {
 
@@ -236,6 +237,16 @@ class TriangleBvh {
   std::vector<Node> mNodes;
   std::vector<Vec3<T>> mV0, mE1, mE2;
   std::vector<std::uint32_t> mIds;
+};
+
+/// A mesh in double precision with its BVH, built once and queried many times: projection
+/// segments during conversion, closest points when measuring error.
+struct MeshBvh {
+  std::vector<Vec3d> positions;
+  TriangleBvh<double> bvh;
+
+  explicit MeshBvh(const TriangleMesh& mesh)
+      : positions(mesh.positions.begin(), mesh.positions.end()), bvh(positions, mesh.triangles) {}
 };
 
 }  // namespace cellrelief

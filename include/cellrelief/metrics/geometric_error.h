@@ -90,24 +90,15 @@ inline OneSidedError pointsToSurface(const std::vector<Vec3d>& points, const Tri
 }
 
 /// A surface prepared for repeated distance queries (the original mesh, measured many times).
-class DistanceField {
- public:
-  explicit DistanceField(const TriangleMesh& mesh)
-      : mPositions(mesh.positions.begin(), mesh.positions.end()), mBvh(mPositions, mesh.triangles) {}
-  const TriangleBvh<double>& bvh() const { return mBvh; }
-
- private:
-  std::vector<Vec3d> mPositions;
-  TriangleBvh<double> mBvh;
-};
+using DistanceField = MeshBvh;
 
 /// Two-sided error between meshes a and b with `samplesPerSide` points on each.
 inline SurfaceError surfaceError(const TriangleMesh& a, const DistanceField& aField,
                                  const TriangleMesh& b, std::size_t samplesPerSide = 200000) {
   const DistanceField bField(b);
   SurfaceError e;
-  e.aToB = pointsToSurface(sampleSurface(a, samplesPerSide), bField.bvh());
-  e.bToA = pointsToSurface(sampleSurface(b, samplesPerSide), aField.bvh());
+  e.aToB = pointsToSurface(sampleSurface(a, samplesPerSide), bField.bvh);
+  e.bToA = pointsToSurface(sampleSurface(b, samplesPerSide), aField.bvh);
   return e;
 }
 

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <mutex>
 
 #include "cellrelief/cells/cell_complex.h"
@@ -72,8 +73,11 @@ Vec3d projectionLineEnd(const Proj& proj, int face, const Vec3d& onFace) {
 }
 }  // namespace detail
 
-/// Converts a mesh. Throws Error on bad input (see CellComplex::build) or bad options.
-inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& options = {},
+/// Samples the maps of a relief model on a cell complex of `mesh` and a ray query of it that the
+/// caller already has (options.gridSize is ignored: the complex fixes N). Reports the sampling
+/// time only; convert() below adds the grid.
+inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& complex,
+                           const MeshRayQuery& query, const ConvertOptions& options,
                            ConvertReport* report = nullptr) {
   const auto start = std::chrono::steady_clock::now();
   if (options.texels != 0 && (options.texels < 2 || options.texels > 1025))
@@ -83,19 +87,8 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
     throw Error(ErrorKind::InvalidArgument, "distance bits must be 8 or 16");
   ConvertReport local;
   ConvertReport& rep = report ? *report : local;
-
-  const MeshRayQuery query(mesh);
-  int n = options.gridSize;
-  if (n == 0) {
-    GridSizeOptions search = options.gridSearch;
-    search.memoryLimitBytes = std::min(search.memoryLimitBytes, options.memoryLimitBytes);
-    const GridSizeChoice choice = chooseGridSize(mesh, search, &query);
-    n = choice.gridSize;
-    rep.gridTrials = choice.trials;
-  }
+  const int n = complex.gridSize();
   const int T = options.texels != 0 ? options.texels : defaultTexels(n);
-  const cells::CellComplex complex =
-      cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
   const auto grey = complex.greyCells();
   std::size_t maxLayers = 0;
   for (const cells::GreyCell& g : grey) maxLayers += std::popcount(unsigned(g.domainFaces()));
@@ -106,7 +99,6 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
     throw Error(ErrorKind::ResourceLimit,
                 "N = " + std::to_string(n) + ", T = " + std::to_string(T) + " needs about " +
                     std::to_string(sampleBytes >> 20) + " MiB of maps before quantization, over the limit");
-  rep.gridSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // Signals the mesh has: nothing else is sampled or stored.
   const bool wantNormals =
@@ -282,9 +274,33 @@ inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& optio
   rep.filledSamples = filled;
   rep.emptySamples = empty;
   rep.quantizationErrorWS = model.quantizationError() * h;
-  rep.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  rep.sampleSeconds = rep.totalSeconds - rep.gridSeconds;
+  rep.sampleSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  rep.totalSeconds = rep.gridSeconds + rep.sampleSeconds;
   return model;
+}
+
+/// Converts a mesh: the ray query, the grid (chosen from the occlusion ratio when
+/// options.gridSize is 0, reusing the search's complex), then the maps. Throws Error on bad input
+/// (see CellComplex::build) or bad options.
+inline ReliefModel convert(const TriangleMesh& mesh, const ConvertOptions& options = {},
+                           ConvertReport* report = nullptr) {
+  const auto start = std::chrono::steady_clock::now();
+  ConvertReport local;
+  ConvertReport& rep = report ? *report : local;
+  const MeshRayQuery query(mesh);
+  std::shared_ptr<const cells::CellComplex> complex;
+  if (options.gridSize == 0) {
+    GridSizeOptions search = options.gridSearch;
+    search.memoryLimitBytes = std::min(search.memoryLimitBytes, options.memoryLimitBytes);
+    GridSizeChoice choice = chooseGridSize(mesh, search, &query);
+    rep.gridTrials = choice.trials;
+    complex = std::move(choice.complex);
+  } else {
+    complex = std::make_shared<const cells::CellComplex>(cells::CellComplex::build(
+        mesh, {.gridSize = options.gridSize, .memoryLimitBytes = options.memoryLimitBytes}));
+  }
+  rep.gridSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return convert(mesh, *complex, query, options, &rep);
 }
 
 }  // namespace cellrelief::relief

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <map>
 #include <vector>
 
 #include "cellrelief/metrics/geometric_error.h"
@@ -49,10 +50,16 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const Er
   const std::size_t bytesPerSample = std::size_t(o.convert.distanceBits / 8) +
                                      (o.convert.normals != NormalFormat::None && mesh.hasNormals() ? 4 : 0) +
                                      (o.convert.colors && mesh.hasColors() ? 4 : 0);
+  // One BVH and one complex per N serve every candidate (each N is tried with several T).
+  const MeshBvh meshBvh(mesh);
+  std::map<int, cells::CellComplex> complexes;
   std::vector<ErrorBoundCandidate> candidates;
   for (const int n : o.gridSizes) {
-    const cells::CellComplex complex =
-        cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = o.convert.memoryLimitBytes});
+    const cells::CellComplex& complex =
+        complexes
+            .emplace(n, cells::CellComplex::build(
+                            mesh, {.gridSize = n, .memoryLimitBytes = o.convert.memoryLimitBytes}))
+            .first->second;
     std::size_t faces = 0;
     for (const cells::GreyCell& g : complex.greyCells()) faces += std::popcount(unsigned(g.domainFaces()));
     for (const int t : o.texelCounts)
@@ -60,7 +67,6 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const Er
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const auto& a, const auto& b) { return a.predictedBytes < b.predictedBytes; });
-  const metrics::DistanceField original(mesh);
   ErrorBoundResult result;
   double bestError = std::numeric_limits<double>::infinity();
   for (ErrorBoundCandidate& c : candidates) {
@@ -72,13 +78,13 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const Er
     co.progress = nullptr;
     ReliefModel model;
     try {
-      model = convert(mesh, co);
+      model = convert(mesh, complexes.at(c.gridSize), meshBvh, co);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::ResourceLimit) throw;
       continue;  // over the memory limit after all: skip it, keep what was measured
     }
     const TriangleMesh rebuilt = reconstruct(model);
-    const metrics::SurfaceError e = metrics::surfaceError(mesh, original, rebuilt, o.samplesPerSide);
+    const metrics::SurfaceError e = metrics::surfaceError(mesh, meshBvh, rebuilt, o.samplesPerSide);
     c.converted = true;
     c.bytes = model.byteSize();
     c.rms = e.rms() / diagonal;

@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -41,14 +42,8 @@ struct OcclusionEstimate {
   std::size_t samples = 0;
 };
 
-/// The mesh in double precision with a BVH, for segment queries; build once, use for every N.
-struct MeshRayQuery {
-  std::vector<Vec3d> positions;
-  TriangleBvh<double> bvh;
-
-  explicit MeshRayQuery(const TriangleMesh& mesh)
-      : positions(mesh.positions.begin(), mesh.positions.end()), bvh(positions, mesh.triangles) {}
-};
+/// The mesh's BVH for segment queries; built once, used for every N.
+using MeshRayQuery = MeshBvh;
 
 /// Estimates the occlusion ratio of a cell complex built from `mesh`.
 inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
@@ -122,6 +117,7 @@ struct GridSizeChoice {
   int gridSize = 0;
   bool metThreshold = false;  ///< false when N_max was reached first
   std::vector<GridSizeTrial> trials;
+  std::shared_ptr<const cells::CellComplex> complex;  ///< the complex at the chosen N, for reuse
 };
 
 /// Doubles N from 1 until the occlusion ratio is below the threshold or N reaches N_max, and
@@ -145,13 +141,14 @@ inline GridSizeChoice chooseGridSize(const TriangleMesh& mesh, const GridSizeOpt
       break;  // the largest N that fits is the answer
     }
     const auto start = std::chrono::steady_clock::now();
-    const cells::CellComplex complex =
-        cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes});
-    const OcclusionEstimate est = estimateOcclusion(mesh, complex, options.occlusion, *query);
-    choice.trials.push_back({n, est.ratio, complex.stats().grey,
+    auto complex = std::make_shared<const cells::CellComplex>(
+        cells::CellComplex::build(mesh, {.gridSize = n, .memoryLimitBytes = options.memoryLimitBytes}));
+    const OcclusionEstimate est = estimateOcclusion(mesh, *complex, options.occlusion, *query);
+    choice.trials.push_back({n, est.ratio, complex->stats().grey,
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
                                  .count()});
     choice.gridSize = n;
+    choice.complex = std::move(complex);
     if (est.ratio < options.threshold) {
       choice.metThreshold = true;
       break;
