@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
@@ -23,6 +24,7 @@ Command addDemoCommand(CLI::App& app);
 Command addCellsCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addReconstructCommand(CLI::App& app);
+Command addRenderCommand(CLI::App& app);
 
 /// Prints the `info` report of a mesh file (also used by `demo`).
 void printMeshInfo(const std::string& path);
@@ -32,5 +34,8 @@ std::string formatBytes(double bytes);
 
 /// The value of --grid: a whole number N >= 1, or 0 for "auto". Throws Error otherwise.
 int parseGridSize(const std::string& grid);
+
+/// The value of --size: "WxH", each 1 to 16384. Throws Error otherwise.
+std::pair<int, int> parseImageSize(const std::string& size);
 
 }  // namespace cellrelief::app

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
       cellrelief::app::addCellsCommand(app),
       cellrelief::app::addConvertCommand(app),
       cellrelief::app::addReconstructCommand(app),
+      cellrelief::app::addRenderCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

@@ -161,9 +161,9 @@ TEST(ModelFile, TruncatedCorruptedAndWrongVersionFilesAreRejected) {
   test::writeBytes(dir / "flipped.crm", flipped);
   expectBadFile(dir / "flipped.crm", "checksum mismatch");
   std::string version = bytes;
-  version[8] = 2;
-  test::writeBytes(dir / "v2.crm", version);
-  expectBadFile(dir / "v2.crm", "version 2, this build reads version 1");
+  version[8] = 3;
+  test::writeBytes(dir / "v3.crm", version);
+  expectBadFile(dir / "v3.crm", "version 3, this build reads version 2");
   std::string magic = bytes;
   magic[0] = 'X';
   test::writeBytes(dir / "magic.crm", magic);

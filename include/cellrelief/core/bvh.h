@@ -247,6 +247,26 @@ struct MeshBvh {
 
   explicit MeshBvh(const TriangleMesh& mesh)
       : positions(mesh.positions.begin(), mesh.positions.end()), bvh(positions, mesh.triangles) {}
+
+  /// Whether p is inside the surface: the parity of crossings along three skewed rays, by
+  /// majority, so one ray through an edge, a hole or a fold does not decide alone.
+  bool contains(const Vec3d& p) const {
+    static constexpr double kDirections[3][3] = {
+        {0.8721, 0.3917, 0.2933}, {-0.3109, 0.9011, -0.3024}, {0.2687, -0.3301, -0.9049}};
+    int insideVotes = 0;
+    for (const auto& d : kDirections) {
+      Rayd ray(p, Vec3d(d[0], d[1], d[2]));
+      int crossings = 0;
+      for (int guard = 0; guard < 1 << 16; ++guard) {
+        const Hitd hit = bvh.closestHit(ray);
+        if (!hit.valid()) break;
+        ++crossings;
+        ray.tmin = hit.t * (1.0 + 1e-12) + 1e-12;
+      }
+      insideVotes += crossings & 1;
+    }
+    return insideVotes >= 2;
+  }
 };
 
 }  // namespace cellrelief

@@ -115,6 +115,7 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
     std::vector<Vec3f> normal;
     std::vector<Color8> color;
     std::uint8_t present = 0;
+    bool centreInside = false;  // interior cells only
   };
   std::vector<CellSamples> samples(grey.size());
   std::atomic<std::size_t> done{0};
@@ -131,6 +132,8 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
       centroid = sampleCentroid(surf);
     }
     out.proj = projection::chooseProjection<double>(cell.configuration, options.centre, centroid);
+    if (cell.configuration == 0)
+      out.centreInside = query.contains(complex.cellMinWS(cell.ijk) + h * out.proj.point);
     const int faces = std::popcount(unsigned(cell.domainFaces()));
     out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
     if (wantNormals) out.normal.assign(out.distance.size(), Vec3f(0));
@@ -202,7 +205,7 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
   for (std::size_t ci = 0; ci < grey.size(); ++ci) {
     const cells::GreyCell& g = grey[ci];
     CellRecord& r = model.cells[ci];
-    r.packedIjk = CellRecord::packIjk(g.ijk);
+    r.packedIjk = CellRecord::packIjk(g.ijk) | (samples[ci].centreInside ? CellRecord::kCentreInside : 0u);
     r.configuration = g.configuration;
     r.projectionType = std::uint8_t(samples[ci].proj.type);
     r.faceOrAxis = std::uint8_t(std::max(0, samples[ci].proj.faceOrAxis));

@@ -30,7 +30,8 @@
 namespace cellrelief::relief {
 
 inline constexpr char kReliefMagic[8] = {'C', 'E', 'L', 'L', 'R', 'E', 'L', 'F'};
-inline constexpr std::uint32_t kReliefFileVersion = 1;
+/// Version 2 adds the centre-inside bit (bit 30) of interior cells' packed coordinates.
+inline constexpr std::uint32_t kReliefFileVersion = 2;
 
 namespace detail {
 using io::detail::crc32;
@@ -201,7 +202,8 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
     const Vec3i p = r.ijk();
     // The projection must be the one its configuration chooses (type and face or axis), with a
     // finite point in the cell: nothing downstream then indexes out of range.
-    bool ok = p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
+    const bool flagsOk = (r.packedIjk >> 31) == 0 && (!r.centreInside() || r.configuration == 0);
+    bool ok = flagsOk && p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
               (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
               r.firstLayer == nextLayer;
     if (ok) {

@@ -37,13 +37,19 @@ enum class ColorFormat : std::uint8_t { None = 0, Rgba8 = 1 };
 
 /// One grey cell of the look-up table, 24 bytes, as a std430 struct of 32-bit words.
 struct CellRecord {
-  std::uint32_t packedIjk = 0;  ///< i | j << 10 | k << 20
+  std::uint32_t packedIjk = 0;  ///< i | j << 10 | k << 20 | kCentreInside
   std::uint8_t configuration = 0;
   std::uint8_t projectionType = 0;  ///< projection::ProjectionType
   std::uint8_t faceOrAxis = 0;      ///< parallel: the face; planar, axial: the axis
   std::uint8_t presentFaces = 0;    ///< domain faces that have a layer (some surface projects there)
   std::uint32_t firstLayer = 0;     ///< layer of its first present face; the others follow in face order
   float point[3] = {0, 0, 0};       ///< perspective centre or a point of the axis, unit-cell coordinates
+
+  /// Set in interior cells (case 0) whose centre of projection is inside the object. Their
+  /// domain faces border grey or black cells, so a projection line with no surface on it may lie
+  /// inside or outside; it lies on the centre's side, and this bit says which that is.
+  static constexpr std::uint32_t kCentreInside = 1u << 30;
+  bool centreInside() const { return (packedIjk & kCentreInside) != 0; }
 
   Vec3i ijk() const {
     return {int(packedIjk & 1023u), int((packedIjk >> 10) & 1023u), int((packedIjk >> 20) & 1023u)};

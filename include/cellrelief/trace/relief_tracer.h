@@ -1,52 +1,110 @@
 // SPDX-License-Identifier: MIT
 /// @file relief_tracer.h
-/// Ray casting of a relief model (Apaza & Andujar, 3.5.2) on the CPU, the reference the GPU
-/// backends will follow. A 3D DDA walks the ray through the grid and stops only at grey cells
-/// (looked up in an OpenVDB grid through a cached accessor; white and black cells cost one lookup).
+/// Ray casting of a relief model (Apaza & Andujar, 3.5.2) on the CPU: the reference that the GPU
+/// backends follow. A 3D DDA walks the ray through the grid and stops only at grey cells (looked up
+/// in a sparse OpenVDB grid through a cached accessor; white and black cells cost one lookup).
 /// Inside a grey cell the ray segment is searched for a sign change of
 ///   f(p) = |p - P'(p)| - stored distance at P'(p),
-/// the point's distance from its projection on the domain face minus the surface's: a linear
-/// search finds the first sample past the surface, a binary search refines it. The number of
-/// linear steps follows the ray's slant to the face it entered through (de Toledo et al.): a ray
-/// along the projection direction crosses few samples, a grazing ray many. Empty samples (no
-/// surface on the projection line) count as "between face and surface". The stored distances are read with bilinear filtering of the
-/// vertex-centred samples, as a GPU's hardware filter reads them.
+/// the point's distance from its projection on the domain face minus the surface's, read with
+/// bilinear filtering of the vertex-centred samples as a GPU's hardware filter reads them.
+///
+/// Two ways to search a cell:
+/// - linear + binary (the paper): a linear search finds the first sample past the surface and a
+///   binary search refines it. The number of linear steps is the search policy's choice; the
+///   default, BalancedSearch, follows the ray's slant to the face it enters through (de Toledo et
+///   al., Geometry Textures 4.1): a ray along the projection direction needs few samples, a
+///   grazing ray many. Perspective and axial cells switch faces along the ray, so they always take
+///   the full number.
+/// - empty-space skipping (TraceOptions::skipEmptySpace, beyond the paper): in parallel and planar
+///   cells, whose distance is linear along the ray, the ray walks a min pyramid of the layer
+///   (empty_space.h) and skips every node it provably cannot hit; in each texel cell it still has
+///   to cross, it meets the bilinear surface exactly (a quadratic in the ray parameter). This is
+///   conservative: it can find more hits than the sampled search, never fewer.
+///
+/// Cell boundaries: a surface lying in the face shared by two grey cells, or thinner than a
+/// sample where it pokes into a cell, may show no sign change inside either cell. The tracer
+/// carries the side of the surface (inside or outside) across cell faces, and entering a cell on
+/// the other side is a hit at the face. For this the field is signed by inside and outside rather
+/// than by the face's side; interior cells (case 0) need a bit of the look-up table for that (see
+/// field()).
+///
+/// The projection type is a template parameter of the cell search (dispatched once per cell), so
+/// the inner loops have no virtual or switch-per-sample call; the scalar type (float or double)
+/// and the search policy are template parameters of the tracer.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include <openvdb/openvdb.h>
 
 #include "cellrelief/core/aabb.h"
-#include "cellrelief/core/hit.h"
+#include "cellrelief/core/ray.h"
 #include "cellrelief/relief/relief_model.h"
+#include "cellrelief/trace/empty_space.h"
 
 namespace cellrelief::trace {
 
 struct TraceOptions {
-  int minLinearSteps = 4;   ///< a ray along the projection direction
-  int maxLinearSteps = 64;  ///< a ray grazing the face
+  int minLinearSteps = 4;   ///< linear samples per cell for a ray along the projection direction
+  int maxLinearSteps = 64;  ///< ... for a ray grazing the face
   int binarySteps = 8;      ///< refinement after the linear search (1 / 256 of a linear step)
+  bool skipEmptySpace = true;  ///< min-pyramid skipping and exact texel tests in parallel/planar cells
+};
+
+/// A search policy decides how many linear samples a ray segment inside a cell gets.
+/// Requirements: a static `linearSteps(options, slant, lengthCells, singleDirection)` returning
+/// the count (>= 1), where slant = |cos| of the angle between the ray and the entry face's normal,
+/// lengthCells the segment's length in cell units, and singleDirection whether the cell's
+/// projection has one direction (parallel, planar).
+template <class S>
+concept SearchPolicy = requires(const TraceOptions& o, double x, bool b) {
+  { S::linearSteps(o, x, x, b) } -> std::convertible_to<int>;
+};
+
+/// Slant-balanced linear search (de Toledo et al.): few samples along the projection direction,
+/// maxLinearSteps for grazing rays, in proportion to the length of the segment.
+struct BalancedSearch {
+  static int linearSteps(const TraceOptions& o, double slant, double lengthCells, bool singleDirection) {
+    const double perCell = singleDirection
+        ? o.minLinearSteps + (1.0 - slant) * (o.maxLinearSteps - o.minLinearSteps)
+        : double(o.maxLinearSteps);
+    return std::clamp(int(std::ceil(lengthCells * perCell)), 2, std::max(2, o.maxLinearSteps));
+  }
+};
+
+/// The paper's plain search: maxLinearSteps samples in every cell, whatever the ray.
+struct UniformSearch {
+  static int linearSteps(const TraceOptions& o, double, double, bool) {
+    return std::max(2, o.maxLinearSteps);
+  }
 };
 
 /// Where a ray met the relief surface.
+template <Real T>
 struct ReliefHit {
-  double t = std::numeric_limits<double>::infinity();
-  Vec3d position{0};
+  T t = std::numeric_limits<T>::infinity();
+  Vec3<T> position{0};
   Vec3f normal{0};   ///< shading normal: the normal map, or the local surface of the samples
   Color8 color{200, 200, 200, 255};
   int cell = -1;     ///< index into the model's cell table
   int face = -1;     ///< domain face whose map held the surface
-  Vec2f uv{0};       ///< face coordinates on that face
-  std::uint32_t steps = 0;  ///< search samples taken (for statistics)
+  Vec2f uv{0};       ///< face coordinates on that face, [0, 1]^2
+  Vec2f texel{0};    ///< the same in sample units, [0, T - 1]^2
+  std::uint32_t steps = 0;  ///< field evaluations and skip steps taken (for statistics)
   bool valid() const { return cell >= 0; }
 };
 
+template <Real T, SearchPolicy Search = BalancedSearch>
 class ReliefTracer {
  public:
+  using Scalar = T;
+  using Hit = ReliefHit<T>;
+
   explicit ReliefTracer(const relief::ReliefModel& model, const TraceOptions& options = {})
       : mModel(model), mOptions(options), mGrid(openvdb::Int32Grid::create(-1)) {
     auto acc = mGrid->getAccessor();
@@ -54,48 +112,61 @@ class ReliefTracer {
       const Vec3i p = model.cells[i].ijk();
       acc.setValueOn(openvdb::Coord(p.x, p.y, p.z), std::int32_t(i));
     }
-    mBounds = Aabbd(model.originWS, model.originWS + Vec3d(model.cellSizeWS * model.gridSize));
+    mBounds = Aabb<T>(Vec3<T>(model.originWS),
+                      Vec3<T>(model.originWS + Vec3d(model.cellSizeWS * model.gridSize)));
+    mOrigin = Vec3<T>(model.originWS);
+    mCellSize = T(model.cellSizeWS);
+    mDistanceScale = model.maxCode() > 0 ? T(double(model.distanceMax) / double(model.maxCode())) : T(0);
+    if (options.skipEmptySpace) mPyramid = EmptySpacePyramid(model);
   }
 
   const relief::ReliefModel& model() const { return mModel; }
-  const Aabbd& boundsWS() const { return mBounds; }
+  const TraceOptions& options() const { return mOptions; }
+  const Aabb<T>& boundsWS() const { return mBounds; }
+  /// Bytes the tracer adds to the model (the pyramid; the sparse grid mirrors the cell table).
+  std::size_t accelerationBytes() const { return mPyramid.byteSize(); }
 
-  /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax].
-  ReliefHit intersect(const Rayd& ray) const {
-    ReliefHit best;
-    const RayInterval<double> span = cellrelief::intersect(ray, mBounds);
-    if (!span.hit) return best;
+  /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
+  /// be normalized; t is in units of it.
+  Hit intersect(const Ray<T>& ray) const {
+    const RayInterval<T> span = cellrelief::intersect(ray, mBounds);
+    if (!span.hit) return {};
     openvdb::Int32Grid::ConstAccessor acc = mGrid->getConstAccessor();
     const int n = mModel.gridSize;
-    const double h = mModel.cellSizeWS;
-    // DDA in index space, starting where the ray enters the grid.
-    const double tStart = span.t0;
-    const Vec3d entry = (ray.at(tStart) - mModel.originWS) / h;
+    const T h = mCellSize;
+    // DDA in index space, starting in the cell that holds the entry point.
+    const T tStart = span.t0;
+    const Vec3<T> entry = (ray.at(tStart) - mOrigin) / h;
     Vec3i cell = glm::clamp(Vec3i(glm::floor(entry)), Vec3i(0), Vec3i(n - 1));
-    Vec3i step;
-    Vec3d tMax, tDelta;
+    Vec3i step(0);
+    Vec3<T> tMax(std::numeric_limits<T>::infinity()), tDelta(std::numeric_limits<T>::infinity());
     for (int a = 0; a < 3; ++a) {
-      const double d = ray.direction[a];
+      const T d = ray.direction[a];
       if (d > 0) {
         step[a] = 1;
-        tMax[a] = tStart + ((cell[a] + 1) * h + mModel.originWS[a] - ray.at(tStart)[a]) / d;
-        tDelta[a] = h / d;
+        tMax[a] = ((cell[a] + 1) * h + mOrigin[a] - ray.origin[a]) * ray.invDirection[a];
+        tDelta[a] = h * ray.invDirection[a];
       } else if (d < 0) {
         step[a] = -1;
-        tMax[a] = tStart + (cell[a] * h + mModel.originWS[a] - ray.at(tStart)[a]) / d;
-        tDelta[a] = -h / d;
-      } else {
-        step[a] = 0;
-        tMax[a] = std::numeric_limits<double>::infinity();
-        tDelta[a] = std::numeric_limits<double>::infinity();
+        tMax[a] = (cell[a] * h + mOrigin[a] - ray.origin[a]) * ray.invDirection[a];
+        tDelta[a] = -h * ray.invDirection[a];
       }
     }
-    double tCell = tStart;
+    // The side of the surface the ray is on, carried from cell to cell: outside when it enters
+    // the grid from outside (the grid pads the mesh), unknown when it starts within the grid.
+    // White and black cells hold no surface, so they keep the side.
+    Side side = span.t0 > ray.tmin ? Side::Outside : Side::Unknown;
+    T tCell = tStart;
     while (true) {
-      const double tExit = std::min({tMax.x, tMax.y, tMax.z, span.t1});
+      const T tExit = std::min({tMax.x, tMax.y, tMax.z, span.t1});
       const std::int32_t index = acc.getValue(openvdb::Coord(cell.x, cell.y, cell.z));
       if (index >= 0) {
-        ReliefHit hit = searchCell(ray, index, tCell, tExit);
+        const relief::CellRecord& record = mModel.cells[index];
+        const auto proj = record.projection<T>();
+        const CellFrame frame = cellFrame(ray, record, tCell, tExit);
+        Hit hit = proj.visit([&](const auto& p) {
+          return searchCell(p, record, index, ray, frame, tCell, tExit, side);
+        });
         if (hit.valid()) return hit;
       }
       if (tExit >= span.t1) break;
@@ -105,72 +176,114 @@ class ReliefTracer {
       tCell = tMax[axis];
       tMax[axis] += tDelta[axis];
     }
-    return best;
+    return {};
   }
+
+  /// Whether anything lies on the ray within [tmin, tmax] (shadow rays).
+  bool occluded(const Ray<T>& ray) const { return intersect(ray).valid(); }
 
  private:
-  /// f at a unit-cell point: distance from its face point minus the stored distance (negative =
-  /// between the face and the surface, positive = beyond the surface); `face` and `uv` report
-  /// where it projected. No surface on the projection line reads as "between" (-1).
-  double field(const relief::CellRecord& r, const projection::CellProjection<double>& proj,
-               const Vec3d& p, int& face, Vec2d& uv) const {
-    const projection::FacePoint<double> fp = proj.project(glm::clamp(p, Vec3d(0), Vec3d(1)));
-    face = fp.face;
-    uv = fp.uv;
-    const int layer = r.layerOf(fp.face);
-    if (layer < 0) return -1.0;  // no surface projects onto this face
-    const int T = mModel.texels;
-    const double x = fp.uv.x * (T - 1), y = fp.uv.y * (T - 1);
-    const int a0 = std::min(T - 2, int(x)), b0 = std::min(T - 2, int(y));
-    const double fx = x - a0, fy = y - b0;
-    double stored = 0, weight = 0;
-    for (int k = 0; k < 4; ++k) {
-      const int a = a0 + (k & 1), b = b0 + (k >> 1);
-      const double d = mModel.distance(layer, a, b);
-      if (std::isnan(d)) return -1.0;  // an empty sample nearby: no surface here
-      const double w = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
-      stored += w * d;
-      weight += w;
-    }
-    return fp.distance - stored / weight;
+  /// The ray in a cell's unit coordinates: p(t) = origin + t * direction.
+  struct CellFrame {
+    Vec3<T> origin{0};
+    Vec3<T> direction{0};
+  };
+  enum class Side { Unknown, Outside, Inside };
+
+  CellFrame cellFrame(const Ray<T>& ray, const relief::CellRecord& r, T, T) const {
+    const Vec3<T> cellOrigin = mOrigin + Vec3<T>(r.ijk()) * mCellSize;
+    return {(ray.origin - cellOrigin) / mCellSize, ray.direction / mCellSize};
   }
 
-  ReliefHit searchCell(const Rayd& ray, std::int32_t index, double t0, double t1) const {
-    ReliefHit hit;
-    const relief::CellRecord& r = mModel.cells[index];
-    const auto proj = r.projection<double>();
-    const Vec3d origin = mModel.originWS + Vec3d(r.ijk()) * mModel.cellSizeWS;
-    const double h = mModel.cellSizeWS;
-    auto local = [&](double t) { return (ray.at(t) - origin) / h; };
-    int face = -1;
-    Vec2d uv;
-    double fPrev = field(r, proj, local(t0), face, uv);
-    // Linear steps from the slant between the ray and the entry face's projection direction.
-    const Vec3d dirUnit = glm::normalize(ray.direction);
-    const double slant = face >= 0 ? std::abs(glm::dot(dirUnit, Vec3d(cells::faceNormal(face)))) : 1.0;
-    const double lengthCells = (t1 - t0) * glm::length(ray.direction) / h;
-    // Parallel and planar cells have one projection direction, so f changes monotonically with
-    // depth and the slant rule applies. Perspective and axial cells switch faces along the ray,
-    // and the region behind the surface can be a thin sliver next to a face: they always take
-    // the full number of steps.
-    const bool singleDirection = proj.type == projection::ProjectionType::Parallel ||
-                                 proj.type == projection::ProjectionType::Planar;
-    const double perCell = singleDirection
-        ? mOptions.minLinearSteps + (1.0 - slant) * (mOptions.maxLinearSteps - mOptions.minLinearSteps)
-        : double(mOptions.maxLinearSteps);
-    const int linear = std::clamp(int(std::ceil(lengthCells * perCell)), 2, mOptions.maxLinearSteps);
-    double tPrev = t0;
+  /// Bilinearly filtered stored distance at face coordinates, or nullopt when one of the four
+  /// samples is empty (the rim of the surface's projection: the field changes side there).
+  std::optional<T> stored(int layer, const Vec2<T>& uv) const {
+    const int texels = mModel.texels;
+    const T x = glm::clamp(uv.x, T(0), T(1)) * T(texels - 1);
+    const T y = glm::clamp(uv.y, T(0), T(1)) * T(texels - 1);
+    const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
+    const T fx = x - T(a0), fy = y - T(b0);
+    const std::uint32_t empty = mModel.emptyCode();
+    const std::uint32_t c00 = mModel.distanceCode(layer, a0, b0);
+    const std::uint32_t c10 = mModel.distanceCode(layer, a0 + 1, b0);
+    const std::uint32_t c01 = mModel.distanceCode(layer, a0, b0 + 1);
+    const std::uint32_t c11 = mModel.distanceCode(layer, a0 + 1, b0 + 1);
+    if (c00 == empty || c10 == empty || c01 == empty || c11 == empty) return std::nullopt;
+    const T top = T(c00) + fx * (T(c10) - T(c00));
+    const T bottom = T(c01) + fx * (T(c11) - T(c01));
+    return (top + fy * (bottom - top)) * mDistanceScale;
+  }
+
+  /// The signed field at a unit-cell point: positive inside the object, negative outside.
+  /// f = distance from the face minus the stored distance is negative between the face and the
+  /// surface, positive beyond it. Domain faces of every cell but the interior ones border white
+  /// space, so there "beyond" is inside and a line with no surface is outside. An interior cell
+  /// (case 0) projects from its centre; a line with no surface lies on the centre's side, and a
+  /// line with surface has the centre's side beyond it (CellRecord::centreInside says which).
+  template <class P>
+  T field(const P& proj, const relief::CellRecord& r, const Vec3<T>& p,
+          projection::FacePoint<T>& fp) const {
+    fp = proj.project(glm::clamp(p, Vec3<T>(0), Vec3<T>(1)));
+    const bool interior = r.configuration == 0;
+    const T emptyValue = interior && r.centreInside() ? T(1) : T(-1);
+    const int layer = r.layerOf(fp.face);
+    if (layer < 0) return emptyValue;
+    const std::optional<T> s = stored(layer, fp.uv);
+    if (!s) return emptyValue;
+    return interior && !r.centreInside() ? *s - fp.distance : fp.distance - *s;
+  }
+
+  /// Searches the ray segment [t0, t1] inside one grey cell. `side` is where the ray was when it
+  /// entered (updated to where it leaves when there is no hit). A surface lying in the face
+  /// shared with the previous cell, or thinner than a sample there, shows no sign change inside
+  /// either cell; the side carried across the face catches it: entering on the other side of
+  /// the surface is a hit at the face.
+  template <class P>
+  Hit searchCell(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+                 const CellFrame& frame, T t0, T t1, Side& side) const {
+    auto local = [&](T t) { return frame.origin + t * frame.direction; };
+    projection::FacePoint<T> fp;
+    const T fIn = field(proj, r, local(t0), fp);
+    if (side != Side::Unknown && (fIn > 0) != (side == Side::Inside))
+      return makeHit(proj, r, index, ray, t0, fp, 1);
+    Hit hit = searchInside(proj, r, index, ray, frame, t0, t1);
+    if (!hit.valid()) side = field(proj, r, local(t1), fp) > 0 ? Side::Inside : Side::Outside;
+    return hit;
+  }
+
+  template <class P>
+  Hit searchInside(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+                   const CellFrame& frame, T t0, T t1) const {
+    constexpr bool kSingleDirection = std::is_same_v<P, projection::ParallelProjection<T>> ||
+                                      std::is_same_v<P, projection::PlanarProjection<T>>;
+    if constexpr (kSingleDirection) {
+      if (mOptions.skipEmptySpace) return skipSearch(proj, r, index, ray, frame, t0, t1);
+    }
+    return linearBinarySearch(proj, r, index, ray, frame, t0, t1, kSingleDirection);
+  }
+
+  template <class P>
+  Hit linearBinarySearch(const P& proj, const relief::CellRecord& r, std::int32_t index,
+                         const Ray<T>& ray, const CellFrame& frame, T t0, T t1,
+                         bool singleDirection) const {
+    auto local = [&](T t) { return frame.origin + t * frame.direction; };
+    projection::FacePoint<T> fp;
+    T fPrev = field(proj, r, local(t0), fp);
+    const T length = glm::length(frame.direction);
+    const T slant = std::abs(glm::dot(frame.direction, Vec3<T>(cells::faceNormal(fp.face)))) / length;
+    const int linear = Search::linearSteps(mOptions, double(slant), double((t1 - t0) * length),
+                                           singleDirection);
+    T tPrev = t0;
     std::uint32_t steps = 1;
     for (int i = 1; i <= linear; ++i) {
-      const double t = t0 + (t1 - t0) * double(i) / linear;
-      double f = field(r, proj, local(t), face, uv);
+      const T t = t0 + (t1 - t0) * T(i) / T(linear);
+      const T f = field(proj, r, local(t), fp);
       ++steps;
       if ((fPrev > 0) != (f > 0)) {
-        // Binary search between tPrev and t.
-        double lo = tPrev, hi = t, fLo = fPrev;
+        T lo = tPrev, hi = t, fLo = fPrev;
         for (int k = 0; k < mOptions.binarySteps; ++k) {
-          const double mid = 0.5 * (lo + hi);
-          const double fm = field(r, proj, local(mid), face, uv);
+          const T mid = T(0.5) * (lo + hi);
+          const T fm = field(proj, r, local(mid), fp);
           ++steps;
           if ((fm > 0) == (fLo > 0)) {
             lo = mid;
@@ -179,44 +292,193 @@ class ReliefTracer {
             hi = mid;
           }
         }
-        hit.t = hi;
-        hit.position = ray.at(hi);
-        hit.cell = index;
-        field(r, proj, local(hi), face, uv);
-        hit.face = face;
-        hit.uv = Vec2f(uv);
-        hit.steps = steps;
-        shade(r, proj, hit);
-        if (hit.normal == Vec3f(0)) hit.normal = Vec3f(-dirUnit);  // a sample with no neighbours
-        return hit;
+        field(proj, r, local(hi), fp);
+        return makeHit(proj, r, index, ray, hi, fp, steps);
       }
       fPrev = f;
       tPrev = t;
     }
+    return {};
+  }
+
+  /// Parallel and planar cells: walk the layer's min pyramid, meet the bilinear surface exactly
+  /// in the texel cells that cannot be skipped. A planar cell is two parallel half-cells.
+  template <class P>
+  Hit skipSearch(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+                 const CellFrame& frame, T t0, T t1) const {
+    if constexpr (std::is_same_v<P, projection::ParallelProjection<T>>) {
+      return skipSearchFace(proj, r, index, ray, frame, proj.face, t0, t1, T(1));
+    } else {
+      const int axis = proj.axis;
+      const T o = frame.origin[axis], d = frame.direction[axis];
+      // Split at the mid-plane; the lower half projects onto the - face, the upper onto the +.
+      T tMid = d != 0 ? (T(0.5) - o) / d : std::numeric_limits<T>::infinity();
+      const bool startsUpper = o + t0 * d >= T(0.5) && !(d < 0 && o + t0 * d == T(0.5));
+      const int first = 2 * axis + (startsUpper ? 1 : 0);
+      if (!(tMid > t0 && tMid < t1)) return skipSearchFace(proj, r, index, ray, frame, first, t0, t1, T(0.5));
+      Hit hit = skipSearchFace(proj, r, index, ray, frame, first, t0, tMid, T(0.5));
+      if (hit.valid()) return hit;
+      return skipSearchFace(proj, r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
+    }
+  }
+
+  template <class P>
+  Hit skipSearchFace(const P& proj, const relief::CellRecord& r, std::int32_t index,
+                     const Ray<T>& ray, const CellFrame& frame, int face, T t0, T t1,
+                     T depthLimit) const {
+    const int layer = r.layerOf(face);
+    if (layer < 0 || !(t1 > t0)) return {};
+    const int axis = cells::faceAxis(face), ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    const T scale = T(mModel.texels - 1);
+    // Along the segment, parameter s in [0, 1]: depth, and position in sample units.
+    const Vec3<T> p0 = frame.origin + t0 * frame.direction;
+    const Vec3<T> dp = (t1 - t0) * frame.direction;
+    const bool upper = cells::faceSign(face) > 0;
+    const T depth0 = upper ? T(1) - p0[axis] : p0[axis];
+    const T dDepth = upper ? -dp[axis] : dp[axis];
+    const T x0 = p0[ua] * scale, dx = dp[ua] * scale;
+    const T y0 = p0[va] * scale, dy = dp[va] * scale;
+    auto depthAt = [&](T s) { return glm::clamp(depth0 + s * dDepth, T(0), depthLimit); };
+    const int top = mPyramid.levels() - 1;
+    int level = top;
+    T s = 0;
+    std::uint32_t steps = 0;
+    auto hitAt = [&](T sHit) {
+      const T t = t0 + sHit * (t1 - t0);
+      projection::FacePoint<T> fp;
+      fp.face = face;
+      const Vec3<T> p = glm::clamp(frame.origin + t * frame.direction, Vec3<T>(0), Vec3<T>(1));
+      fp.uv = Vec2<T>(p[ua], p[va]);
+      fp.distance = depthAt(sHit);
+      return makeHit(proj, r, index, ray, t, fp, steps);
+    };
+    // Which side of the surface the ray is on, as the sampled search reads it: an empty texel
+    // cell (the rim of the surface's projection) reads as outside, so entering a texel cell
+    // below its surface, or leaving one into the rim, is a crossing at the texel cell's edge.
+    bool inside = false;
+    if (const std::optional<T> d = stored(layer, Vec2<T>(p0[ua], p0[va]))) inside = depthAt(0) > *d;
+    constexpr T kProgress = T(1e-6);  // a floor on each advance, against rounding stalls
+    while (s < T(1)) {
+      ++steps;
+      const int size = 1 << level, nodes = mPyramid.size(level);
+      // The node the ray is in, nudged along the ray so boundaries go to the node ahead.
+      const T x = x0 + s * dx, y = y0 + s * dy;
+      const T nudgeX = dx > 0 ? T(1e-9) : (dx < 0 ? T(-1e-9) : T(0));
+      const T nudgeY = dy > 0 ? T(1e-9) : (dy < 0 ? T(-1e-9) : T(0));
+      const int ix = std::clamp(int(std::floor((x + nudgeX) / T(size))), 0, nodes - 1);
+      const int iy = std::clamp(int(std::floor((y + nudgeY) / T(size))), 0, nodes - 1);
+      T sExit = T(1);
+      if (dx != 0) sExit = std::min(sExit, (T(dx > 0 ? (ix + 1) * size : ix * size) - x0) / dx);
+      if (dy != 0) sExit = std::min(sExit, (T(dy > 0 ? (iy + 1) * size : iy * size) - y0) / dy);
+      sExit = std::max(sExit, s + kProgress);
+      const std::uint32_t code = mPyramid.code(layer, level, ix, iy);
+      const T deepest = std::max(depthAt(s), depthAt(std::min(sExit, T(1))));
+      if (mPyramid.isEmptyCode(code) || deepest < T(code) * mDistanceScale) {
+        if (inside) return hitAt(s);
+        s = sExit;
+        level = std::min(level + 1, top);
+        continue;
+      }
+      if (level > 0) {
+        --level;
+        continue;
+      }
+      // A texel cell: f(s) = depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
+      const T s1 = std::min(sExit, T(1));
+      const T d00 = T(mModel.distanceCode(layer, ix, iy)) * mDistanceScale;
+      const T d10 = T(mModel.distanceCode(layer, ix + 1, iy)) * mDistanceScale;
+      const T d01 = T(mModel.distanceCode(layer, ix, iy + 1)) * mDistanceScale;
+      const T d11 = T(mModel.distanceCode(layer, ix + 1, iy + 1)) * mDistanceScale;
+      const T ax = x0 - T(ix), ay = y0 - T(iy);  // local coordinates at s = 0, slopes dx, dy
+      const T e = d00 - d10 - d01 + d11;
+      // bilinear = d00 + (d10 - d00) fx + (d01 - d00) fy + e fx fy with fx = ax + dx s, fy = ay + dy s
+      const T c0 = d00 + (d10 - d00) * ax + (d01 - d00) * ay + e * ax * ay;
+      const T c1 = (d10 - d00) * dx + (d01 - d00) * dy + e * (ax * dy + ay * dx);
+      const T c2 = e * dx * dy;
+      // Depth is clamped to the half-cell in planar cells; the texel walk stays inside it.
+      const T qa = -c2, qb = dDepth - c1, qc = depth0 - c0;
+      auto f = [&](T at) { return (qa * at + qb) * at + qc; };
+      if ((f(s) > 0) != inside) return hitAt(s);
+      if (const std::optional<T> root = firstRoot(qa, qb, qc, s, s1)) return hitAt(*root);
+      inside = f(s1) > 0;
+      s = sExit;
+      level = std::min(level + 1, top);
+    }
+    return {};
+  }
+
+  /// The smallest root of a s^2 + b s + c in [lo, hi] where the sign changes or touches zero.
+  static std::optional<T> firstRoot(T a, T b, T c, T lo, T hi) {
+    auto value = [&](T s) { return (a * s + b) * s + c; };
+    const T fLo = value(lo), fHi = value(hi);
+    const T magnitude = std::abs(a) + std::abs(b) + std::abs(c);
+    if (std::abs(a) <= T(1e-12) * std::max(magnitude, T(1e-30))) {
+      if (b == 0) return c == 0 ? std::optional<T>(lo) : std::nullopt;
+      const T s = -c / b;
+      if (s >= lo && s <= hi) return s;
+      return std::nullopt;
+    }
+    const T disc = b * b - 4 * a * c;
+    if (disc < 0) return std::nullopt;
+    const T q = T(-0.5) * (b + std::copysign(std::sqrt(disc), b));
+    T r0 = q / a, r1 = q != 0 ? c / q : r0;
+    if (r0 > r1) std::swap(r0, r1);
+    if (r0 >= lo && r0 <= hi) return r0;
+    if (r1 >= lo && r1 <= hi) return r1;
+    // Rounding can push a root just outside while the end values still differ in sign.
+    if ((fLo > 0) != (fHi > 0)) return std::clamp(std::abs(r0 - lo) < std::abs(r1 - hi) ? r0 : r1, lo, hi);
+    return std::nullopt;
+  }
+
+  template <class P>
+  Hit makeHit(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+              T t, const projection::FacePoint<T>& fp, std::uint32_t steps) const {
+    Hit hit;
+    hit.t = t;
+    hit.position = ray.at(t);
+    hit.cell = index;
+    hit.face = fp.face;
+    hit.uv = Vec2f(glm::clamp(fp.uv, Vec2<T>(0), Vec2<T>(1)));
+    hit.texel = hit.uv * float(mModel.texels - 1);
+    hit.steps = steps;
+    shade(proj, r, hit);
+    if (hit.normal == Vec3f(0)) hit.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
     return hit;
   }
 
   /// Shading normal and color at a hit: from the maps when stored, else from the unprojected
   /// neighbouring samples (the local surface of the distance map).
-  void shade(const relief::CellRecord& r, const projection::CellProjection<double>& proj,
-             ReliefHit& hit) const {
+  template <class P>
+  void shade(const P& proj, const relief::CellRecord& r, Hit& hit) const {
     const int layer = r.layerOf(hit.face);
     if (layer < 0) return;
-    const int T = mModel.texels;
-    const int a = std::clamp(int(std::lround(hit.uv.x * (T - 1))), 0, T - 1);
-    const int b = std::clamp(int(std::lround(hit.uv.y * (T - 1))), 0, T - 1);
+    const int texels = mModel.texels;
+    int a = std::clamp(int(std::lround(hit.texel.x)), 0, texels - 1);
+    int b = std::clamp(int(std::lround(hit.texel.y)), 0, texels - 1);
+    // A hit at the rim of the surface's projection (a crossing found at a cell face or a texel
+    // edge) can round to an empty sample: shade from the nearest filled one within two samples.
+    if (mModel.distanceCode(layer, a, b) == mModel.emptyCode()) {
+      int best = std::numeric_limits<int>::max(), bestA = a, bestB = b;
+      for (int y = std::max(0, b - 2); y <= std::min(texels - 1, b + 2); ++y)
+        for (int x = std::max(0, a - 2); x <= std::min(texels - 1, a + 2); ++x) {
+          const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
+          if (d2 < best && mModel.distanceCode(layer, x, y) != mModel.emptyCode())
+            best = d2, bestA = x, bestB = y;
+        }
+      a = bestA;
+      b = bestB;
+    }
     if (mModel.normalFormat != relief::NormalFormat::None) {
       hit.normal = mModel.normal(layer, a, b);
     } else {
       auto point = [&](int x, int y) -> std::optional<Vec3d> {
-        x = std::clamp(x, 0, T - 1);
-        y = std::clamp(y, 0, T - 1);
+        if (x < 0 || y < 0 || x >= texels || y >= texels) return std::nullopt;
         const double d = mModel.distance(layer, x, y);
         if (std::isnan(d)) return std::nullopt;
-        return proj.unproject(hit.face, Vec2d(double(x) / (T - 1), double(y) / (T - 1)), d);
+        return Vec3d(proj.unproject(hit.face, Vec2<T>(T(x) / T(texels - 1), T(y) / T(texels - 1)), T(d)));
       };
       // Central differences where both neighbours exist, one-sided ones at the edge of the
-      // surface; the reverse ray direction when the sample stands alone.
+      // surface; none (the caller's reverse ray direction) when the sample stands alone.
       const auto centre = point(a, b);
       auto derivative = [&](int dx, int dy) -> std::optional<Vec3d> {
         const auto plus = point(a + dx, b + dy), minus = point(a - dx, b - dy);
@@ -229,6 +491,9 @@ class ReliefTracer {
       Vec3d n(0);
       if (du && dv) n = glm::cross(*du, *dv);
       if (cells::faceSign(hit.face) < 0) n = -n;
+      // The samples see the surface from the face; in an interior cell whose centre is outside,
+      // the outside is behind the surface, not in front of it.
+      if (r.configuration == 0 && !r.centreInside()) n = -n;
       hit.normal = glm::length(n) > 0 ? Vec3f(glm::normalize(n)) : Vec3f(0);
     }
     if (mModel.colorFormat == relief::ColorFormat::Rgba8)
@@ -238,7 +503,14 @@ class ReliefTracer {
   const relief::ReliefModel& mModel;
   TraceOptions mOptions;
   openvdb::Int32Grid::Ptr mGrid;
-  Aabbd mBounds;
+  Aabb<T> mBounds;
+  Vec3<T> mOrigin{0};
+  T mCellSize = 1;
+  T mDistanceScale = 0;
+  EmptySpacePyramid mPyramid;
 };
+
+using ReliefTracerf = ReliefTracer<float>;
+using ReliefTracerd = ReliefTracer<double>;
 
 }  // namespace cellrelief::trace

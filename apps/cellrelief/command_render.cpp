@@ -1,0 +1,182 @@
+// SPDX-License-Identifier: MIT
+/// @file command_render.cpp
+/// `cellrelief render <model.crm | mesh> -o out.png`: ray casts a relief model on a backend and
+/// writes the color image, and on request the depth and normal buffers. A mesh is converted at
+/// default settings first, so any mesh can be looked at in one command.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+#include <cellrelief/backends/backend_table.h>
+#include <cellrelief/io/image_io.h>
+#include <cellrelief/io/mesh_io.h>
+#include <cellrelief/relief/convert.h>
+#include <cellrelief/relief/model_file.h>
+
+#include "commands.h"
+
+namespace cellrelief::app {
+
+namespace {
+
+struct RenderCli {
+  std::string input, output, backend = "auto", size = "800x800", camera, depth, normals;
+  bool shadows = true, skip = true;
+  int reflections = 0;
+};
+
+std::vector<double> parseNumbers(const std::string& text, const std::string& what) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      std::size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw Error(ErrorKind::InvalidArgument, what + " '" + text + "': '" + item + "' is not a number");
+    }
+  }
+  return values;
+}
+
+}  // namespace
+
+std::pair<int, int> parseImageSize(const std::string& size) {
+  const std::size_t x = size.find('x');
+  int w = 0, h = 0;
+  try {
+    if (x != std::string::npos) {
+      std::size_t a = 0, b = 0;
+      w = std::stoi(size.substr(0, x), &a);
+      h = std::stoi(size.substr(x + 1), &b);
+      if (a != x || b != size.size() - x - 1) w = h = 0;
+    }
+  } catch (const std::exception&) {
+    w = h = 0;
+  }
+  if (w < 1 || h < 1 || w > 16384 || h > 16384)
+    throw Error(ErrorKind::InvalidArgument, "--size '" + size + "': expected WxH, 1 to 16384 each");
+  return {w, h};
+}
+
+namespace {
+
+render::Camera parseCamera(const std::string& spec, const Aabbd& bounds) {
+  const Vec3d centre = bounds.center();
+  const double radius = 0.5 * bounds.diagonal();
+  if (spec.empty()) return render::Camera::framing(centre, radius);
+  const std::vector<double> v = parseNumbers(spec, "--camera");
+  if (v.size() == 2 || v.size() == 3)
+    return render::Camera::framing(centre, radius, v[0], v[1], v.size() == 3 ? v[2] : 40.0);
+  if (v.size() == 6 || v.size() == 7) {
+    render::Camera c;
+    c.eye = Vec3d(v[0], v[1], v[2]);
+    c.target = Vec3d(v[3], v[4], v[5]);
+    if (v.size() == 7) c.verticalFovDegrees = v[6];
+    if (glm::length(c.target - c.eye) == 0)
+      throw Error(ErrorKind::InvalidArgument, "--camera '" + spec + "': eye and target coincide");
+    return c;
+  }
+  throw Error(ErrorKind::InvalidArgument,
+              "--camera '" + spec + "': expected yaw,pitch[,fov] or ex,ey,ez,tx,ty,tz[,fov]");
+}
+
+Image<std::uint8_t> depthImage(const render::Frame& frame) {
+  float lo = std::numeric_limits<float>::infinity(), hi = 0;
+  for (float d : frame.depth.levelData())
+    if (std::isfinite(d)) lo = std::min(lo, d), hi = std::max(hi, d);
+  Image<std::uint8_t> out(frame.width, frame.height, 1);
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const float d = frame.depth.at(x, y, 0);
+      // Near is bright; misses are black.
+      out.at(x, y, 0) = std::isfinite(d) ? std::uint8_t(std::lround(255 - 220 * (d - lo) / std::max(hi - lo, 1e-20f))) : 0;
+    }
+  return out;
+}
+
+Image<std::uint8_t> normalImage(const render::Frame& frame) {
+  Image<std::uint8_t> out(frame.width, frame.height, 3);
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        out.at(x, y, c) = frame.mask.at(x, y, 0)
+                              ? std::uint8_t(std::lround(127.5f * (frame.normal.at(x, y, c) + 1.0f)))
+                              : 0;
+  return out;
+}
+
+int runRender(const RenderCli& o) {
+  const auto [width, height] = parseImageSize(o.size);
+  auto backend = backends::createBackend(o.backend);
+  std::shared_ptr<relief::ReliefModel> model;
+  if (std::filesystem::path(o.input).extension() == ".crm") {
+    model = std::make_shared<relief::ReliefModel>(relief::readRelief(o.input));
+  } else {
+    const TriangleMesh mesh = io::readMesh(o.input);
+    const auto t0 = std::chrono::steady_clock::now();
+    model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
+    std::printf("converted     %s: N = %d, T = %d, %zu grey cells, %s in %.2f s\n", o.input.c_str(),
+                model->gridSize, model->texels, model->cells.size(),
+                formatBytes(double(model->byteSize())).c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  const render::Scene scene = render::Scene::of(model);
+  render::RenderOptions options;
+  options.width = width;
+  options.height = height;
+  options.shadows = o.shadows;
+  options.reflectionBounces = o.reflections;
+  options.trace.skipEmptySpace = o.skip;
+  const render::Camera camera = parseCamera(o.camera, scene.boundsWS());
+  backend->upload(scene);
+  backend->render(camera, options);  // the first frame builds the tracers
+  const auto t0 = std::chrono::steady_clock::now();
+  backend->render(camera, options);
+  render::Frame frame;
+  backend->readBack(frame);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::size_t hits = 0;
+  for (std::uint8_t m : frame.mask.levelData()) hits += m;
+  std::printf("rendered      %dx%d on %s in %.3f s (%.2f Mpixel/s, %zu hits; shading with%s shadows, "
+              "%d reflection bounce%s)\n",
+              width, height, backend->description().c_str(), seconds, width * height / seconds * 1e-6,
+              hits, o.shadows ? "" : "out", o.reflections, o.reflections == 1 ? "" : "s");
+  io::writePng(frame.color, o.output);
+  std::printf("wrote         %s\n", o.output.c_str());
+  if (!o.depth.empty()) {
+    io::writePng(depthImage(frame), o.depth);
+    std::printf("wrote         %s\n", o.depth.c_str());
+  }
+  if (!o.normals.empty()) {
+    io::writePng(normalImage(frame), o.normals);
+    std::printf("wrote         %s\n", o.normals.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addRenderCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
+  auto o = std::make_shared<RenderCli>();
+  cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
+  cmd->add_option("--backend", o->backend, "auto, cpu, opengl or vulkan")->capture_default_str();
+  cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
+  cmd->add_option("--camera", o->camera,
+                  "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");
+  cmd->add_option("--depth", o->depth, "Also write the depth buffer (.png, near is bright)");
+  cmd->add_option("--normals", o->normals, "Also write the normal buffer (.png)");
+  cmd->add_flag("!--no-shadows", o->shadows, "No shadow rays");
+  cmd->add_option("--reflections", o->reflections, "Mirror bounces per hit")
+      ->check(CLI::Range(0, 8))
+      ->capture_default_str();
+  cmd->add_flag("!--no-skip", o->skip, "Plain linear + binary search (no empty-space skipping)");
+  return {cmd, [o]() { return runRender(*o); }};
+}
+
+}  // namespace cellrelief::app

@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+/// @file cpu_backend.h
+/// The reference renderer and the embedded default: the traversal headers (trace/relief_tracer.h)
+/// run over TBB tiles of 16 x 16 pixels, in float as a GPU runs them. The GPU backends implement
+/// the same algorithm from the same constants, and their images are compared against this one.
+///
+/// Shading is deliberately plain so that backends can match it exactly: the hit's color (the
+/// model's color map, or a neutral grey) times ambient plus Lambert over the directional lights,
+/// each gated by a shadow ray; optional mirror bounces mixed in by RenderOptions::reflectivity;
+/// display gamma 2.2. The normal buffer holds the shading normal turned towards the viewer.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "cellrelief/render/backend.h"
+#include "cellrelief/trace/relief_tracer.h"
+
+namespace cellrelief::cpu {
+
+class CpuBackend final : public render::Backend {
+ public:
+  using Tracer = trace::ReliefTracer<float>;
+  static constexpr int kTileSize = 16;
+
+  render::BackendKind kind() const override { return render::BackendKind::Cpu; }
+
+  std::string description() const override {
+    return "CPU reference (TBB, " + std::to_string(std::thread::hardware_concurrency()) +
+           " hardware threads)";
+  }
+
+  void upload(const render::Scene& scene) override {
+    mScene = scene;
+    mTraceOptions.reset();
+    mTracers.clear();
+  }
+
+  void render(const render::Camera& camera, const render::RenderOptions& options) override {
+    buildTracers(options.trace);
+    mFrame.resize(options.width, options.height, options.channels);
+    const int tilesX = (options.width + kTileSize - 1) / kTileSize;
+    const int tilesY = (options.height + kTileSize - 1) / kTileSize;
+    auto renderTiles = [&] {
+      tbb::parallel_for(tbb::blocked_range2d<int>(0, tilesY, 1, 0, tilesX, 1),
+                        [&](const tbb::blocked_range2d<int>& r) {
+                          for (int ty = r.rows().begin(); ty != r.rows().end(); ++ty)
+                            for (int tx = r.cols().begin(); tx != r.cols().end(); ++tx)
+                              renderTile(camera, options, tx, ty);
+                        });
+    };
+    if (options.threads > 0) {
+      tbb::task_arena arena(int(options.threads));
+      arena.execute(renderTiles);
+    } else {
+      renderTiles();
+    }
+  }
+
+  void readBack(render::Frame& frame) override { frame = mFrame; }
+
+  std::size_t sceneBytes() const override {
+    std::size_t bytes = 0;
+    for (const auto& m : mScene.models) bytes += m->byteSize();
+    for (const auto& t : mTracers) bytes += t->accelerationBytes();
+    return bytes;
+  }
+
+  /// The nearest hit over the scene's models (world space), for secondary rays and tests.
+  struct SceneHit {
+    Tracer::Hit hit;
+    int model = -1;
+    bool valid() const { return model >= 0; }
+  };
+  SceneHit intersect(const Rayf& ray) const {
+    SceneHit best;
+    for (std::size_t i = 0; i < mTracers.size(); ++i) {
+      Rayf clipped = ray;
+      if (best.valid()) clipped.tmax = best.hit.t;
+      Tracer::Hit h = mTracers[i]->intersect(clipped);
+      if (h.valid() && (!best.valid() || h.t < best.hit.t)) best = {h, int(i)};
+    }
+    return best;
+  }
+  bool occluded(const Rayf& ray) const {
+    for (const auto& t : mTracers)
+      if (t->occluded(ray)) return true;
+    return false;
+  }
+
+  /// Builds the tracers (and their empty-space pyramids) for these options; a no-op when the
+  /// scene and options are unchanged since the last call. render() calls it.
+  void buildTracers(const trace::TraceOptions& options) {
+    if (mTraceOptions && sameOptions(*mTraceOptions, options)) return;
+    mTracers.clear();
+    for (const auto& m : mScene.models) mTracers.push_back(std::make_unique<Tracer>(*m, options));
+    mTraceOptions = options;
+  }
+
+ private:
+  static bool sameOptions(const trace::TraceOptions& a, const trace::TraceOptions& b) {
+    return a.minLinearSteps == b.minLinearSteps && a.maxLinearSteps == b.maxLinearSteps &&
+           a.binarySteps == b.binarySteps && a.skipEmptySpace == b.skipEmptySpace;
+  }
+
+  /// A secondary ray starts this far off the surface (world units): two sample spacings of the
+  /// model it left, past the reach of its own reconstruction error.
+  float surfaceOffset(int model) const {
+    const relief::ReliefModel& m = *mScene.models[std::size_t(model)];
+    return float(2.0 * m.cellSizeWS / std::max(1, m.texels - 1));
+  }
+
+  Vec3f shade(const Rayf& ray, const SceneHit& sh, Vec3f normal,
+              const render::RenderOptions& options, int depth) const {
+    const Vec3f base = Vec3f(sh.hit.color) / 255.0f;
+    const Vec3f p = sh.hit.position;
+    const float offset = surfaceOffset(sh.model);
+    Vec3f light = mScene.ambient;
+    for (const render::DirectionalLight& l : mScene.lights) {
+      const Vec3f towards = glm::normalize(l.direction);
+      const float lambert = glm::dot(normal, towards);
+      if (lambert <= 0) continue;
+      if (options.shadows && occluded(Rayf(p + offset * normal, towards))) continue;
+      light += l.color * (l.intensity * lambert);
+    }
+    Vec3f c = base * light;
+    if (depth < options.reflectionBounces) {
+      const Vec3f dir = glm::reflect(glm::normalize(ray.direction), normal);
+      const Rayf mirror(p + offset * normal, dir);
+      const SceneHit next = intersect(mirror);
+      Vec3f reflected = Vec3f(mScene.background);
+      if (next.valid()) reflected = shade(mirror, next, facing(next.hit.normal, dir), options, depth + 1);
+      c = glm::mix(c, reflected, options.reflectivity);
+    }
+    return c;
+  }
+
+  /// The normal turned towards where the ray came from.
+  static Vec3f facing(const Vec3f& n, const Vec3f& direction) {
+    return glm::dot(n, direction) > 0 ? -n : n;
+  }
+
+  void renderTile(const render::Camera& camera, const render::RenderOptions& options, int tx,
+                  int ty) {
+    const int x1 = std::min(options.width, (tx + 1) * kTileSize);
+    const int y1 = std::min(options.height, (ty + 1) * kTileSize);
+    for (int y = ty * kTileSize; y < y1; ++y)
+      for (int x = tx * kTileSize; x < x1; ++x) {
+        const Rayd primary = camera.primaryRay(x, y, options.width, options.height);
+        const Rayf ray(Vec3f(primary.origin), Vec3f(primary.direction));
+        const SceneHit sh = intersect(ray);
+        if (!sh.valid()) {
+          if (mFrame.has(render::kColor))
+            for (int c = 0; c < 4; ++c)
+              mFrame.color.at(x, y, c) = std::uint8_t(std::lround(255.0f * mScene.background[c]));
+          continue;
+        }
+        const Vec3f n = facing(sh.hit.normal, ray.direction);
+        if (mFrame.has(render::kDepth)) mFrame.depth.at(x, y, 0) = sh.hit.t;
+        if (mFrame.has(render::kMask)) mFrame.mask.at(x, y, 0) = 1;
+        if (mFrame.has(render::kNormal))
+          for (int c = 0; c < 3; ++c) mFrame.normal.at(x, y, c) = n[c];
+        if (mFrame.has(render::kColor)) {
+          const Vec3f c = glm::clamp(shade(ray, sh, n, options, 0), Vec3f(0), Vec3f(1));
+          for (int k = 0; k < 3; ++k)
+            mFrame.color.at(x, y, k) = std::uint8_t(std::lround(255.0f * std::pow(c[k], 1.0f / 2.2f)));
+          mFrame.color.at(x, y, 3) = 255;
+        }
+      }
+  }
+
+  render::Scene mScene;
+  std::vector<std::unique_ptr<Tracer>> mTracers;
+  std::optional<trace::TraceOptions> mTraceOptions;
+  render::Frame mFrame;
+};
+
+}  // namespace cellrelief::cpu

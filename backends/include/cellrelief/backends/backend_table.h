@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+/// @file backend_table.h
+/// The explicit table from BackendKind to factories, and why a backend is unavailable. No
+/// self-registering statics: what a build holds is decided here, by the CELLRELIEF_HAS_<BACKEND>
+/// definitions the `cellrelief::backends` target carries, so a reader sees every backend in one
+/// place and an absent dependency compiles nothing.
+///
+/// "auto" takes the first available backend in order of preference (a GPU backend once one is
+/// available, else the CPU reference). The OpenGL and Vulkan backends are later issues: until
+/// they land, their rows answer "not implemented in this version" rather than pretending.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "cellrelief/cpu/cpu_backend.h"
+#include "cellrelief/render/backend.h"
+
+namespace cellrelief::backends {
+
+/// Whether `kind` can render here; for Auto, whether any backend can.
+inline render::Availability isAvailable(render::BackendKind kind) {
+  using render::BackendKind;
+  switch (kind) {
+    case BackendKind::Auto:
+    case BackendKind::Cpu: return {true, ""};
+    case BackendKind::OpenGL:
+#ifdef CELLRELIEF_HAS_OPENGL
+      return {false, "the OpenGL backend is not implemented in this version of cellrelief"};
+#else
+      return {false, "compiled without OpenGL (install libegl-dev libegl1-mesa-dev)"};
+#endif
+    case BackendKind::Vulkan:
+#ifdef CELLRELIEF_HAS_VULKAN
+      return {false, "the Vulkan backend is not implemented in this version of cellrelief"};
+#else
+      return {false, "compiled without Vulkan (install libvulkan-dev glslc)"};
+#endif
+  }
+  return {false, "unknown backend kind"};
+}
+
+/// The kind "auto" stands for here.
+inline render::BackendKind resolve(render::BackendKind kind) {
+  using render::BackendKind;
+  if (kind != BackendKind::Auto) return kind;
+  for (BackendKind k : {BackendKind::Vulkan, BackendKind::OpenGL})
+    if (isAvailable(k)) return k;
+  return BackendKind::Cpu;
+}
+
+/// A new backend of `kind`; throws Error (Unsupported) with the reason when it cannot run here.
+inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind) {
+  const render::BackendKind resolved = resolve(kind);
+  if (const render::Availability a = isAvailable(resolved); !a)
+    throw Error(ErrorKind::Unsupported,
+                "backend '" + std::string(render::backendName(resolved)) + "': " + a.reason);
+  switch (resolved) {
+    case render::BackendKind::Cpu: return std::make_unique<cpu::CpuBackend>();
+    default: break;
+  }
+  throw Error(ErrorKind::Unsupported,
+              "backend '" + std::string(render::backendName(resolved)) + "' has no factory");
+}
+
+inline std::unique_ptr<render::Backend> createBackend(std::string_view name) {
+  return createBackend(render::parseBackendKind(name));
+}
+
+}  // namespace cellrelief::backends
