@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+/// @file ceres_optimizer.h
+/// The quasi-conformal parameterization as a nonlinear least-squares problem solved by Ceres: the
+/// alternative to the springs. Own header and own target (cellrelief::indirection_ceres) because it
+/// brings Ceres and, through it, Eigen; the rest of the module is GLM only. Built only when Ceres is
+/// found (CELLRELIEF_HAS_Ceres); `ceresAvailable()` lets callers ask without including this file.
+///
+/// Energy (chosen over spring lengths): for each of the 2 g^2 triangles of the grid, with
+/// a = dP/ds and b = dP/dt the columns of the Jacobian of texture space -> relief surface (the same
+/// triangles and Jacobians as measureDistortion),
+///     r1 = |a| / lambda - 1,   r2 = |b| / lambda - 1,   r3 = a.b / lambda^2,
+/// with lambda^2 the relief's surface area, the scale at which the unit texture square covers the
+/// surface exactly. The residuals vanish iff the triangle maps to a square of side lambda / g: an
+/// isometry up to that one global scale, which is what both the angle and the area distortion
+/// measure (and Sander's L2 stretch, the figure of the comparison, is their smooth combination).
+/// They depend on the first fundamental form only, so they are rotation-invariant like ARAP. Why not
+/// springs in Ceres: a spring energy measures edge lengths only and reaches shear through the
+/// diagonals indirectly; the metric residuals see angles directly and are measured on the very
+/// triangles the distortion is reported on, so the two optimizers are compared on the same surface.
+///
+/// Derivatives are analytic: the height of each vertex is linearized with the exact gradient of the
+/// bilinear relief (ReliefMap::gradientAt) into first-order Ceres Jets. A step that would flip a
+/// triangle in the base plane is rejected (the cost function returns false and the trust region
+/// shrinks), so the result has no flipped cell by construction, like the springs' step clamp.
+/// Boundary as for the springs: corners fixed, edge vertices slide (ceres::SubsetManifold).
+/// Multi-scale: g = 16 solved, refined piecewise linearly to 2g, solved again, ... up to g.
+/// Linear solver: sparse normal Cholesky (SuiteSparse CHOLMOD with nested-dissection ordering, the
+/// right tool for the 2D-grid sparsity), Eigen's sparse Cholesky when SuiteSparse is absent.
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "cellrelief/indirection/grid.h"
+#include "cellrelief/indirection/optimizer.h"
+#include "cellrelief/indirection/relief_map.h"
+
+namespace cellrelief::indirection {
+
+struct CeresOptions {
+  int gridSize = 256;
+  int startGridSize = 16;
+  int maxIterations = 15;               ///< per coarse level (Levenberg-Marquardt iterations)
+  int maxFinalIterations = 50;          ///< on the last level
+  double functionTolerance = 1e-4;      ///< relative cost change that ends the last level
+  double coarseFunctionTolerance = 1e-3;  ///< coarse levels only initialize the next one
+  int threads = 0;                      ///< 0: one per hardware thread
+  bool dogleg = false;                  ///< trust region: dogleg instead of Levenberg-Marquardt
+  ceres::LinearSolverType linearSolver = ceres::SPARSE_NORMAL_CHOLESKY;
+  bool verbose = false;                 ///< Ceres' per-iteration log on stdout
+};
+
+struct CeresReport {
+  int iterations = 0, finalIterations = 0;
+  double seconds = 0, initialCost = 0, finalCost = 0;
+  std::string summary;  ///< Ceres' brief report of the last level
+};
+
+namespace detail {
+
+/// The three metric residuals of one triangle (and a barrier against folding); parameter blocks are its three vertices (u, v).
+/// `corner` orders the vertices so that a = (p1 - p0) g and b = (p2 - p1) g (lower triangle) or
+/// a = (p1 - p2) g and b = (p2 - p0) g (upper triangle), as in measureDistortion.
+class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
+ public:
+  TriangleMetricCost(const ReliefMap& relief, int upper, double g, double lambda)
+      : mRelief(relief), mUpper(upper), mG(g), mInvLambda(1.0 / lambda) {}
+
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    using J = ceres::Jet<double, 6>;
+    J u[3], v[3], z[3];
+    for (int k = 0; k < 3; ++k) {
+      const float fu = float(p[k][0]), fv = float(p[k][1]);
+      const Vec2f grad = mRelief.gradientAt(fu, fv);
+      u[k] = J(p[k][0], 2 * k);
+      v[k] = J(p[k][1], 2 * k + 1);
+      z[k] = J(mRelief.heightAt(fu, fv));
+      z[k].v[2 * k] = grad.x;
+      z[k].v[2 * k + 1] = grad.y;
+    }
+    // Reject a step that flips the triangle in the base plane.
+    const double area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+                         (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    if (!(area2 > 0)) return false;
+    J a[3], b[3];
+    if (!mUpper) {
+      a[0] = (u[1] - u[0]) * mG, a[1] = (v[1] - v[0]) * mG, a[2] = (z[1] - z[0]) * mG;
+      b[0] = (u[2] - u[1]) * mG, b[1] = (v[2] - v[1]) * mG, b[2] = (z[2] - z[1]) * mG;
+    } else {
+      a[0] = (u[1] - u[2]) * mG, a[1] = (v[1] - v[2]) * mG, a[2] = (z[1] - z[2]) * mG;
+      b[0] = (u[2] - u[0]) * mG, b[1] = (v[2] - v[0]) * mG, b[2] = (z[2] - z[0]) * mG;
+    }
+    const J aa = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    const J bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+    const J ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // In-plane area relative to the identity's; a log barrier below kBarrier keeps the linear model
+    // of Levenberg-Marquardt away from folds (hard rejection alone stalls it at the wall).
+    const J det = (a[0] * b[1] - a[1] * b[0]);
+    J barrier(0.0);
+    if (det.a < kBarrier) barrier = log(kBarrier / det) * kBarrierWeight;
+    const J r[4] = {sqrt(aa) * mInvLambda - 1.0, sqrt(bb) * mInvLambda - 1.0,
+                    ab * (mInvLambda * mInvLambda), barrier};
+    for (int i = 0; i < 4; ++i) residuals[i] = r[i].a;
+    if (jacobians)
+      for (int k = 0; k < 3; ++k)
+        if (jacobians[k])
+          for (int i = 0; i < 4; ++i) {
+            jacobians[k][2 * i] = r[i].v[2 * k];
+            jacobians[k][2 * i + 1] = r[i].v[2 * k + 1];
+          }
+    return true;
+  }
+
+ private:
+  static constexpr double kBarrier = 0.05, kBarrierWeight = 1.0;
+  const ReliefMap& mRelief;
+  int mUpper;
+  double mG, mInvLambda;
+};
+
+/// Reports progress after every iteration of the last level (parameters updated in place).
+class ProgressIteration final : public ceres::IterationCallback {
+ public:
+  ProgressIteration(const std::vector<double>& params, Grid& grid, OptimizerClock& clock,
+                    const ProgressCallback& progress, bool last)
+      : mParams(params), mGrid(grid), mClock(clock), mProgress(progress), mLast(last) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (!mProgress) return ceres::SOLVER_CONTINUE;
+    const double seconds = mClock.seconds();
+    for (std::size_t k = 0; k < mGrid.vertexCount(); ++k) {
+      mGrid.u()[k] = float(mParams[2 * k]);
+      mGrid.v()[k] = float(mParams[2 * k + 1]);
+    }
+    mClock.excluding(mProgress, mGrid,
+                     Progress{mGrid.g(), s.iteration, seconds, s.cost, mLast, false});
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::vector<double>& mParams;
+  Grid& mGrid;
+  OptimizerClock& mClock;
+  const ProgressCallback& mProgress;
+  bool mLast;
+};
+
+}  // namespace detail
+
+/// True when this build can solve with `type` (SuiteSparse or Eigen sparse present).
+inline bool ceresSparseAvailable() {
+  return ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ||
+         ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE);
+}
+
+/// Solves the metric least-squares problem multi-scale; returns M at options.gridSize.
+inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options = {},
+                          const ProgressCallback& progress = {}, CeresReport* report = nullptr) {
+  checkGridSize(options.gridSize);
+  if (options.maxIterations < 1 || options.maxFinalIterations < 1 ||
+      !(options.functionTolerance > 0) || options.startGridSize < 2)
+    throw Error(ErrorKind::InvalidArgument, "ceres: iterations and tolerances must be positive");
+  OptimizerClock clock;
+  CeresReport rep;
+  const double lambda = std::sqrt(relief.surfaceArea());
+  const std::vector<int> levels = multiScaleSchedule(options.gridSize, options.startGridSize);
+  Grid grid(levels.front());
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    if (l > 0) grid = grid.resampled(levels[l]);
+    const bool last = l + 1 == levels.size();
+    const int g = grid.g(), side = g + 1;
+    std::vector<double> params(2 * grid.vertexCount());
+    for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
+      params[2 * k] = grid.u()[k];
+      params[2 * k + 1] = grid.v()[k];
+    }
+    ceres::Problem::Options po;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(po);
+    auto block = [&](int i, int j) { return &params[2 * (std::size_t(j) * side + i)]; };
+    for (int j = 0; j < g; ++j)
+      for (int i = 0; i < g; ++i)
+        for (int t = 0; t < 2; ++t) {
+          const auto& tri = kCellTriangles[t];
+          problem.AddResidualBlock(new detail::TriangleMetricCost(relief, t, g, lambda), nullptr,
+                                   block(i + tri[0][0], j + tri[0][1]),
+                                   block(i + tri[1][0], j + tri[1][1]),
+                                   block(i + tri[2][0], j + tri[2][1]));
+        }
+    ceres::SubsetManifold fixU(2, {0}), fixV(2, {1});
+    for (int j = 0; j <= g; ++j)
+      for (int i = 0; i <= g; ++i) {
+        const bool eu = i == 0 || i == g, ev = j == 0 || j == g;
+        if (eu && ev)
+          problem.SetParameterBlockConstant(block(i, j));
+        else if (eu)
+          problem.SetManifold(block(i, j), &fixU);
+        else if (ev)
+          problem.SetManifold(block(i, j), &fixV);
+      }
+    ceres::Solver::Options so;
+    so.linear_solver_type = options.linearSolver;
+    if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
+      so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
+    so.trust_region_strategy_type = options.dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+    so.num_threads =
+        options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    so.max_num_iterations = last ? options.maxFinalIterations : options.maxIterations;
+    so.function_tolerance = last ? options.functionTolerance : options.coarseFunctionTolerance;
+    so.minimizer_progress_to_stdout = options.verbose;
+    so.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+    detail::ProgressIteration callback(params, grid, clock, progress, last);
+    if (progress && last) {
+      so.update_state_every_iteration = true;
+      so.callbacks.push_back(&callback);
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    if (!summary.IsSolutionUsable())
+      throw Error(ErrorKind::InvalidInput, "ceres: no usable solution at g = " + std::to_string(g) +
+                                               ": " + summary.message);
+    for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
+      grid.u()[k] = float(params[2 * k]);
+      grid.v()[k] = float(params[2 * k + 1]);
+    }
+    const int iterations = int(summary.iterations.size());
+    rep.iterations += iterations;
+    if (l == 0) rep.initialCost = summary.initial_cost;
+    if (last) {
+      rep.finalIterations = iterations;
+      rep.finalCost = summary.final_cost;
+      rep.summary = summary.BriefReport();
+    }
+    clock.excluding(progress, grid,
+                    Progress{g, iterations, clock.seconds(), summary.final_cost, last, true});
+  }
+  rep.seconds = clock.seconds();
+  if (report) *report = rep;
+  return grid;
+}
+
+}  // namespace cellrelief::indirection

@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: MIT
+/// @file springs.h
+/// The spring optimizer of McGuire & Whitson, *Indirection Mapping for Quasi-Conformal Relief
+/// Texturing* (I3D 2008), sections 3.2-3.5: a (g+1)^2 grid of vertices in the base plane, each
+/// joined to its eight neighbours by springs whose lengths are measured *on the relief surface*, is
+/// relaxed until the total force stops changing; coarse grids first (g = 16, doubled up to g).
+///
+/// Reading of the paper, where its printed formulas do not survive:
+/// - Rest lengths. The printed "1/(g sqrt 2)" (diagonal) and "1/g^2 |(x,y) - (a,b)|" are garbled:
+///   the first is shorter than an axis spring and the second has the wrong power of g. A spring
+///   joining the vertices of grid indices (x, y) and (a, b) should rest at the texture-space distance
+///   of its ends, |(x, y) - (a, b)| / g: 1/g for the four axis springs (they keep scale) and
+///   sqrt(2)/g for the four diagonals (they keep the right angles of the cells, which axis springs
+///   alone do not resist shearing). `restScale` multiplies them (1 = the paper).
+/// - Force "of order k = 6": f(L) = stiffness * ((L/L0)^k - 1) / k. For k = 1 this is Hooke's law
+///   with stiffness per unit of relative stretch; for k = 6 long springs pull much harder than short
+///   ones push, which spreads the stretch of steep slopes over their neighbourhood and keeps cells
+///   from collapsing. The direction is that of the 3D chord between the ends; only its in-plane
+///   (u, v) components move a vertex, and the vertex is then "snapped" back on the surface (its
+///   height is re-read at the new (u, v)).
+/// - Step rule (equation 5): each vertex moves by F / K, its in-plane force over the sum K of the
+///   spring stiffnesses dF/dL at it (a Jacobi-Newton step; for Hooke springs at rest it is F/(8k)),
+///   then clamped to a third of the smallest base-plane height of the triangles around it. That
+///   clamp is what guarantees that no triangle flips: if no vertex of a triangle moves more than a
+///   third of its smallest height, the triangle keeps its orientation.
+/// - Surface distance (equation 6): the straight segment between the ends in (u, v) is walked in n
+///   steps and the lengths of the 3D chords between successive surface points summed. The step is a
+///   quarter of a height-map texel, n clamped to 2..10 (`integrationStepTexels`, `min/maxSteps`).
+/// - Each spring is computed once per iteration (four per vertex: right, up, up-right, up-left) into
+///   its own array, and a second pass gathers the forces per vertex: no two threads write the same
+///   word, so the TBB loops need no atomics and the result does not depend on the thread count.
+/// - Boundary: corners fixed, edge vertices slide along their edge, so the map covers the square.
+/// - Convergence: the total in-plane force F_t; a level is done when |F_t - F_t-1| < tolerance F_t
+///   for `patience` iterations in a row (or F_t vanishes, or `maxIterations` is reached).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "cellrelief/core/parallel.h"
+#include "cellrelief/indirection/grid.h"
+#include "cellrelief/indirection/optimizer.h"
+#include "cellrelief/indirection/relief_map.h"
+
+namespace cellrelief::indirection {
+
+/// Which part of a spring's 3D force moves a vertex (see the file comment).
+enum class SpringForce {
+  InPlane,  ///< the paper: the (u, v) components of the 3D force
+  Tangent,  ///< the force's work along the surface, F_uv + F_z grad z: the spring energy's gradient
+};
+
+struct SpringOptions {
+  SpringForce force = SpringForce::InPlane;
+  int gridSize = 256;             ///< the target g
+  int startGridSize = 16;         ///< the first level of the multi-scale schedule
+  float stiffness = 1.0f;         ///< per unit of relative stretch
+  int forceOrder = 6;             ///< k in f = stiffness ((L/L0)^k - 1) / k
+  float restScale = 1.0f;         ///< rest length = restScale |(x,y) - (a,b)| / g
+  float integrationStepTexels = 0.25f;  ///< step of the surface-length integral, in texels
+  int minSteps = 2, maxSteps = 10;      ///< clamp of the number of integration steps
+  float maxStepFraction = 1.0f / 3.0f;  ///< of the smallest incident triangle height
+  double tolerance = 1e-3;        ///< relative change of the total force that ends a level
+  int patience = 3;               ///< iterations in a row below the tolerance
+  int maxIterations = 5000;       ///< per level
+  int reportEvery = 10;           ///< iterations between progress callbacks
+};
+
+struct SpringReport {
+  int iterations = 0;         ///< all levels together
+  int finalIterations = 0;    ///< on the last level
+  double seconds = 0;         ///< callbacks excluded
+  double totalForce = 0;      ///< at the end
+  bool converged = false;     ///< the last level met the tolerance (not the iteration cap)
+};
+
+/// The rest length of the spring between grid indices (x, y) and (x + di, y + dj) at resolution g:
+/// restScale |(di, dj)| / g (1/g for axis springs, sqrt(2)/g for diagonals; see the file comment).
+inline float springRestLength(int di, int dj, int g, float restScale = 1.0f) {
+  return restScale * std::sqrt(float(di * di + dj * dj)) / float(g);
+}
+
+namespace detail {
+
+/// The arrays of one level, kept between iterations.
+class SpringLevel {
+ public:
+  SpringLevel(const ReliefMap& relief, const SpringOptions& o, Grid& grid)
+      : mRelief(relief), mO(o), mGrid(grid), mG(grid.g()), mSide(grid.g() + 1) {
+    const std::size_t n = grid.vertexCount();
+    mZ.resize(n);
+    mGx.resize(n);
+    mGy.resize(n);
+    mNewU.resize(n);
+    mNewV.resize(n);
+    for (int s = 0; s < 4; ++s) {
+      mFx[s].assign(n, 0.0f);
+      mFy[s].assign(n, 0.0f);
+      mKa[s].assign(n, 0.0f);
+      mFxb[s].assign(n, 0.0f);
+      mFyb[s].assign(n, 0.0f);
+      mKb[s].assign(n, 0.0f);
+    }
+    mCellH.assign(std::size_t(mG) * mG, 0.0f);
+    mRowForce.assign(mSide, 0.0);
+    for (int s = 0; s < 4; ++s) mRest[s] = springRestLength(kDi[s], kDj[s], mG, o.restScale);
+    mInvStep = 1.0f / (o.integrationStepTexels * relief.texelSize());
+  }
+
+  /// The four forward springs of a vertex: right, up, up-right, up-left.
+  static constexpr int kDi[4] = {1, 0, 1, -1}, kDj[4] = {0, 1, 1, 1};
+
+  /// One relaxation step; returns the total in-plane force before the step.
+  double step() {
+    const int side = mSide, g = mG;
+    const float* u = mGrid.u().data();
+    const float* v = mGrid.v().data();
+    // Pass 1: heights at the vertices (the snap) and the smallest triangle height of each cell.
+    tbb::parallel_for(tbb::blocked_range<int>(0, side, 8), [&](const tbb::blocked_range<int>& r) {
+      for (int j = r.begin(); j != r.end(); ++j) {
+        for (int i = 0; i < side; ++i) {
+          const std::size_t k = std::size_t(j) * side + i;
+          mZ[k] = mRelief.heightAt(u[k], v[k]);
+          const Vec2f grad = mRelief.gradientAt(u[k], v[k]);
+          mGx[k] = grad.x;
+          mGy[k] = grad.y;
+        }
+        if (j == g) continue;
+        for (int i = 0; i < g; ++i) mCellH[std::size_t(j) * g + i] = cellMinHeight(i, j);
+      }
+    });
+    // Pass 2: the four forward springs of every vertex, each computed once.
+    tbb::parallel_for(tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
+      for (int j = r.begin(); j != r.end(); ++j)
+        for (int i = 0; i < side; ++i) {
+          const std::size_t a = std::size_t(j) * side + i;
+          for (int s = 0; s < 4; ++s) {
+            const int bi = i + kDi[s], bj = j + kDj[s];
+            if (bi < 0 || bi > g || bj > g) continue;
+            const std::size_t b = std::size_t(bj) * side + bi;
+            spring(a, b, mRest[s], s, u, v);
+          }
+        }
+    });
+    // Pass 3: gather per vertex, project on the boundary, step, clamp.
+    const float frac = mO.maxStepFraction;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
+          for (int j = r.begin(); j != r.end(); ++j) {
+            double sum = 0;  // per row, summed in order below: the same total on any thread count
+            for (int i = 0; i < side; ++i) {
+              const std::size_t k = std::size_t(j) * side + i;
+              float fx = 0, fy = 0, kk = 0;
+              for (int s = 0; s < 4; ++s) {
+                if (i + kDi[s] >= 0 && i + kDi[s] <= g && j + kDj[s] <= g) {  // forward: pulls a
+                  fx += mFx[s][k];
+                  fy += mFy[s][k];
+                  kk += mKa[s][k];
+                }
+                const int ai = i - kDi[s], aj = j - kDj[s];
+                if (ai >= 0 && ai <= g && aj >= 0) {  // backward: equal and opposite on b
+                  const std::size_t a = std::size_t(aj) * side + ai;
+                  fx += mFxb[s][a];
+                  fy += mFyb[s][a];
+                  kk += mKb[s][a];
+                }
+              }
+              if (i == 0 || i == g) fx = 0;
+              if (j == 0 || j == g) fy = 0;
+              const float f = std::sqrt(fx * fx + fy * fy);
+              sum += f;
+              float dx = kk > 0 ? fx / kk : 0, dy = kk > 0 ? fy / kk : 0;
+              float limit = HUGE_VALF;
+              for (int cj = j - 1; cj <= j; ++cj)
+                for (int ci = i - 1; ci <= i; ++ci)
+                  if (ci >= 0 && ci < g && cj >= 0 && cj < g)
+                    limit = std::min(limit, mCellH[std::size_t(cj) * g + ci]);
+              limit *= frac;
+              const float d = std::sqrt(dx * dx + dy * dy);
+              if (d > limit) {
+                const float sc = limit > 0 ? limit / d : 0.0f;
+                dx *= sc;
+                dy *= sc;
+              }
+              mNewU[k] = u[k] + dx;
+              mNewV[k] = v[k] + dy;
+            }
+            mRowForce[j] = sum;
+          }
+        });
+    double total = 0;
+    for (double f : mRowForce) total += f;
+    mGrid.u().swap(mNewU);
+    mGrid.v().swap(mNewV);
+    return total;
+  }
+
+ private:
+  /// Twice the area over the longest edge, the smallest height, of the cell's two triangles.
+  float cellMinHeight(int i, int j) const {
+    float h = HUGE_VALF;
+    for (const auto& tri : kCellTriangles) {
+      const Vec2f p0 = mGrid.vertex(i + tri[0][0], j + tri[0][1]);
+      const Vec2f p1 = mGrid.vertex(i + tri[1][0], j + tri[1][1]);
+      const Vec2f p2 = mGrid.vertex(i + tri[2][0], j + tri[2][1]);
+      const float a2 = signedArea2(p0, p1, p2);
+      const float e = std::max({glm::length(p1 - p0), glm::length(p2 - p1), glm::length(p0 - p2)});
+      h = std::min(h, e > 0 ? std::max(a2, 0.0f) / e : 0.0f);
+    }
+    return h;
+  }
+
+  /// The spring from a to b: the in-plane force on a, and how fast that force changes when a (ka)
+  /// or b (kb) moves in the plane: the spring stiffness dF/dL times (dL/d(in-plane move))^2, bounded
+  /// by (|in-plane part of the chord| + |vertical part| |slope at the end|)^2. The slope term matters:
+  /// on a slope s an in-plane move lengthens the spring up to sqrt(1 + s^2) times faster, and a step
+  /// that ignored it would overshoot and oscillate on steep reliefs.
+  void spring(std::size_t a, std::size_t b, float rest, int s, const float* u, const float* v) {
+    const float ua = u[a], va = v[a], za = mZ[a], ub = u[b], vb = v[b], zb = mZ[b];
+    const float du = ub - ua, dv = vb - va;
+    const float l2sq = du * du + dv * dv, l2 = std::sqrt(l2sq);
+    const int n = std::clamp(int(std::ceil(l2 * mInvStep)), mO.minSteps, mO.maxSteps);
+    const float inv = 1.0f / float(n), stepSq = l2sq * inv * inv;
+    float length = 0, pz = za;
+    for (int step = 1; step < n; ++step) {
+      const float t = float(step) * inv;
+      const float z = mRelief.heightAt(ua + t * du, va + t * dv);
+      length += std::sqrt(stepSq + (z - pz) * (z - pz));
+      pz = z;
+    }
+    length += std::sqrt(stepSq + (zb - pz) * (zb - pz));
+    const float chord = std::sqrt(l2sq + (zb - za) * (zb - za));
+    const float e = length / rest;
+    const int p = mO.forceOrder;
+    const float ep1 = p == 1 ? 1.0f : std::pow(e, float(p - 1));
+    const float f = mO.stiffness * (ep1 * e - 1.0f) / float(p);
+    const float scale = chord > 0 ? f / chord : 0.0f, dz = zb - za;
+    // The 3D force on a is scale (du, dv, dz); on b its opposite.
+    if (mO.force == SpringForce::InPlane) {
+      mFx[s][a] = scale * du;
+      mFy[s][a] = scale * dv;
+      mFxb[s][a] = -scale * du;
+      mFyb[s][a] = -scale * dv;
+    } else {  // the work of the 3D force along the surface: F_xy + F_z grad z at each end
+      mFx[s][a] = scale * (du + dz * mGx[a]);
+      mFy[s][a] = scale * (dv + dz * mGy[a]);
+      mFxb[s][a] = -scale * (du + dz * mGx[b]);
+      mFyb[s][a] = -scale * (dv + dz * mGy[b]);
+    }
+    const float k = mO.stiffness * std::max(ep1, 1.0f) / rest;
+    const float inPlane = chord > 0 ? l2 / chord : 1.0f;
+    const float vertical = chord > 0 ? std::abs(dz) / chord : 0.0f;
+    const float sa = std::sqrt(mGx[a] * mGx[a] + mGy[a] * mGy[a]);
+    const float sb = std::sqrt(mGx[b] * mGx[b] + mGy[b] * mGy[b]);
+    mKa[s][a] = k * (inPlane + vertical * sa) * (inPlane + vertical * sa);
+    mKb[s][a] = k * (inPlane + vertical * sb) * (inPlane + vertical * sb);
+  }
+
+  const ReliefMap& mRelief;
+  const SpringOptions& mO;
+  Grid& mGrid;
+  int mG, mSide;
+  float mRest[4];
+  float mInvStep;
+  std::vector<float> mZ, mGx, mGy, mNewU, mNewV, mCellH;
+  std::vector<double> mRowForce;
+  std::vector<float> mFx[4], mFy[4], mFxb[4], mFyb[4], mKa[4], mKb[4];
+};
+
+inline void checkSpringOptions(const SpringOptions& o) {
+  checkGridSize(o.gridSize);
+  auto bad = [](const std::string& what) { throw Error(ErrorKind::InvalidArgument, what); };
+  if (o.startGridSize < 2) bad("springs: start grid size must be at least 2");
+  if (!(o.stiffness > 0) || !std::isfinite(o.stiffness)) bad("springs: stiffness must be > 0");
+  if (o.forceOrder < 1 || o.forceOrder > 12) bad("springs: force order must be 1 to 12");
+  if (!(o.restScale > 0) || !std::isfinite(o.restScale)) bad("springs: rest scale must be > 0");
+  if (!(o.integrationStepTexels > 0)) bad("springs: integration step must be > 0");
+  if (o.minSteps < 1 || o.maxSteps < o.minSteps) bad("springs: need 1 <= minSteps <= maxSteps");
+  if (!(o.maxStepFraction > 0) || o.maxStepFraction > 0.5f)
+    bad("springs: maxStepFraction must be in (0, 0.5]");
+  if (!(o.tolerance > 0)) bad("springs: tolerance must be > 0");
+  if (o.maxIterations < 1 || o.patience < 1 || o.reportEvery < 1)
+    bad("springs: iteration counts must be >= 1");
+}
+
+}  // namespace detail
+
+/// Relaxes the spring network multi-scale and returns the map M at resolution options.gridSize.
+/// Throws Error for options out of range. `progress` (optional) sees the grid every
+/// `reportEvery` iterations and at the end of each level.
+inline Grid relaxSprings(const ReliefMap& relief, const SpringOptions& options = {},
+                         const ProgressCallback& progress = {}, SpringReport* report = nullptr) {
+  detail::checkSpringOptions(options);
+  OptimizerClock clock;
+  SpringReport rep;
+  const std::vector<int> levels = multiScaleSchedule(options.gridSize, options.startGridSize);
+  Grid grid(levels.front());
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    if (l > 0) grid = grid.resampled(levels[l]);
+    const bool last = l + 1 == levels.size();
+    detail::SpringLevel level(relief, options, grid);
+    double previous = -1, force = 0;
+    int calm = 0, it = 0;
+    bool converged = false;
+    for (; it < options.maxIterations; ++it) {
+      force = level.step();
+      if (!std::isfinite(force))
+        throw Error(ErrorKind::InvalidInput, "springs: the force became non-finite at g = " +
+                                                 std::to_string(grid.g()));
+      const double nVerts = double(grid.vertexCount());
+      if (force <= 1e-9 * nVerts * options.stiffness) {
+        converged = true;
+        ++it;
+        break;
+      }
+      calm = previous >= 0 && std::abs(force - previous) < options.tolerance * force ? calm + 1 : 0;
+      previous = force;
+      if (calm >= options.patience) {
+        converged = true;
+        ++it;
+        break;
+      }
+      if (progress && (it + 1) % options.reportEvery == 0)
+        clock.excluding(progress, grid, Progress{grid.g(), it + 1, clock.seconds(), force, last, false});
+    }
+    rep.iterations += it;
+    if (last) {
+      rep.finalIterations = it;
+      rep.converged = converged;
+      rep.totalForce = force;
+    }
+    clock.excluding(progress, grid, Progress{grid.g(), it, clock.seconds(), force, last, true});
+  }
+  rep.seconds = clock.seconds();
+  if (report) *report = rep;
+  return grid;
+}
+
+}  // namespace cellrelief::indirection

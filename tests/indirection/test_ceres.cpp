@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// The Ceres optimizer: the flat map is the identity, it lowers distortion on real height maps below
+// the springs' without flipped cells, and steps and noise stay finite and flip-free.
+#include <gtest/gtest.h>
+
+#include <cellrelief/indirection/ceres_optimizer.h>
+#include <cellrelief/indirection/distortion.h>
+#include <cellrelief/indirection/springs.h>
+
+#include "indirection/test_support_indirection.h"
+
+namespace cellrelief {
+namespace {
+
+using namespace indirection;
+
+TEST(Ceres, FlatMapGivesTheIdentity) {
+  const ReliefMap flat = test::analyticRelief(64, 0.2f, [](float, float) { return 0.5f; });
+  CeresOptions o;
+  o.gridSize = 32;
+  const Grid grid = optimizeCeres(flat, o);
+  const Grid id(32);
+  for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
+    EXPECT_NEAR(grid.u()[k], id.u()[k], 1e-6f);
+    EXPECT_NEAR(grid.v()[k], id.v()[k], 1e-6f);
+  }
+}
+
+TEST(Ceres, LowerDistortionThanTheSpringsOnRealHeightMaps) {
+  for (const char* name : {"sponza/lion_bump.png", "sponza/spnza_bricks_a_bump.png"}) {
+    const auto path = test::heightmap(name);
+    CELLRELIEF_REQUIRE_FILE(path);
+    const ReliefMap relief = downsample(loadReliefMap(path, {0.1f}), 128);
+    CeresOptions co;
+    co.gridSize = 32;
+    CeresReport report;
+    const Grid c = optimizeCeres(relief, co, {}, &report);
+    SpringOptions so;
+    so.gridSize = 32;
+    const Grid s = relaxSprings(relief, so);
+    const Distortion dc = measureDistortion(c, relief), ds = measureDistortion(s, relief);
+    const Distortion d0 = measureDistortion(Grid(32), relief);
+    std::printf("%s g=32: L2 identity %.4f springs %.4f ceres %.4f (%d iterations)\n", name,
+                d0.l2Stretch, ds.l2Stretch, dc.l2Stretch, report.iterations);
+    EXPECT_EQ(dc.flippedCells, 0u);
+    EXPECT_TRUE(c.isFinite());
+    EXPECT_LT(dc.l2Stretch, ds.l2Stretch) << name;
+    EXPECT_LT(dc.l2Stretch, d0.l2Stretch) << name;
+  }
+}
+
+TEST(Ceres, StepsAndNoiseStayFiniteAndFlipFree) {
+  for (const auto& [relief, what] :
+       {std::pair{test::boxRelief(128, 0.3f), "box"}, std::pair{test::boxRelief(128, 0.3f, true), "well"},
+        std::pair{test::noiseRelief(128, 0.3f, 50, 5), "noise"}}) {
+    CeresOptions o;
+    o.gridSize = 64;
+    const Grid grid = optimizeCeres(relief, o);
+    ASSERT_TRUE(grid.isFinite()) << what;
+    const Distortion d = measureDistortion(grid, relief);
+    EXPECT_EQ(d.flippedCells, 0u) << what;
+    EXPECT_LT(d.l2Stretch, measureDistortion(Grid(64), relief).l2Stretch) << what;
+  }
+}
+
+TEST(Ceres, BadOptionsAreClearErrors) {
+  const ReliefMap relief = test::noiseRelief(16, 0.1f, 3, 1);
+  CeresOptions o;
+  o.gridSize = 1;
+  EXPECT_THROW(optimizeCeres(relief, o), Error);
+  o = {};
+  o.maxIterations = 0;
+  EXPECT_THROW(optimizeCeres(relief, o), Error);
+}
+
+}  // namespace
+}  // namespace cellrelief
