@@ -155,7 +155,7 @@ class ReliefTracer {
     // The side of the surface the ray is on, carried from cell to cell: outside when it enters
     // the grid from outside (the grid pads the mesh), unknown when it starts within the grid.
     // White and black cells hold no surface, so they keep the side.
-    Side side = span.t0 > ray.tmin ? Side::Outside : Side::Unknown;
+    Side side{span.t0 > ray.tmin ? Side::Outside : Side::Unknown};
     T tCell = tStart;
     while (true) {
       const T tExit = std::min({tMax.x, tMax.y, tMax.z, span.t1});
@@ -168,6 +168,8 @@ class ReliefTracer {
           return searchCell(p, record, index, ray, frame, tCell, tExit, side);
         });
         if (hit.valid()) return hit;
+      } else {
+        side.exitField = std::numeric_limits<T>::infinity();
       }
       if (tExit >= span.t1) break;
       const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
@@ -188,7 +190,16 @@ class ReliefTracer {
     Vec3<T> origin{0};
     Vec3<T> direction{0};
   };
-  enum class Side { Unknown, Outside, Inside };
+  /// |f| on a projection line without surface: beyond any real value (at most sqrt(3) in a cell),
+  /// so that "no surface here" stays distinguishable from a distance.
+  static constexpr T kEmptyField = T(4);
+
+  /// Where the ray is relative to the surface, and |f| where it left the last grey cell
+  /// (infinity after a white or black cell, where no surface can be).
+  struct Side {
+    enum { Unknown, Outside, Inside } where = Unknown;
+    T exitField = std::numeric_limits<T>::infinity();
+  };
 
   CellFrame cellFrame(const Ray<T>& ray, const relief::CellRecord& r, T, T) const {
     const Vec3<T> cellOrigin = mOrigin + Vec3<T>(r.ijk()) * mCellSize;
@@ -225,7 +236,7 @@ class ReliefTracer {
           projection::FacePoint<T>& fp) const {
     fp = proj.project(glm::clamp(p, Vec3<T>(0), Vec3<T>(1)));
     const bool interior = r.configuration == 0;
-    const T emptyValue = interior && r.centreInside() ? T(1) : T(-1);
+    const T emptyValue = interior && r.centreInside() ? kEmptyField : -kEmptyField;
     const int layer = r.layerOf(fp.face);
     if (layer < 0) return emptyValue;
     const std::optional<T> s = stored(layer, fp.uv);
@@ -244,10 +255,22 @@ class ReliefTracer {
     auto local = [&](T t) { return frame.origin + t * frame.direction; };
     projection::FacePoint<T> fp;
     const T fIn = field(proj, r, local(t0), fp);
-    if (side != Side::Unknown && (fIn > 0) != (side == Side::Inside))
+    // A crossing at the face unless both cells read a real distance far from the surface there:
+    // then they disagree because one of them misreads the side (a projection line that meets the
+    // surface twice, past the occlusion the grid size allows), and the entered cell is trusted.
+    // An empty line (no surface sampled, as in a sliver thinner than a sample) tells nothing
+    // against the crossing.
+    const T nearFace = T(2) / T(mModel.texels - 1);
+    auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
+    if (side.where != Side::Unknown && (fIn > 0) != (side.where == Side::Inside) &&
+        !(farFromSurface(fIn) && farFromSurface(side.exitField)))
       return makeHit(proj, r, index, ray, t0, fp, 1);
     Hit hit = searchInside(proj, r, index, ray, frame, t0, t1);
-    if (!hit.valid()) side = field(proj, r, local(t1), fp) > 0 ? Side::Inside : Side::Outside;
+    if (!hit.valid()) {
+      const T fOut = field(proj, r, local(t1), fp);
+      side.where = fOut > 0 ? Side::Inside : Side::Outside;
+      side.exitField = std::abs(fOut);
+    }
     return hit;
   }
 
