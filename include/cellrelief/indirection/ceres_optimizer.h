@@ -5,18 +5,24 @@
 /// brings Ceres and, through it, Eigen; the rest of the module is GLM only. Built only when Ceres is
 /// found (CELLRELIEF_HAS_Ceres); `ceresAvailable()` lets callers ask without including this file.
 ///
-/// Energy (chosen over spring lengths): for each of the 2 g^2 triangles of the grid, with
-/// a = dP/ds and b = dP/dt the columns of the Jacobian of texture space -> relief surface (the same
-/// triangles and Jacobians as measureDistortion),
-///     r1 = |a| / lambda - 1,   r2 = |b| / lambda - 1,   r3 = a.b / lambda^2,
-/// with lambda^2 the relief's surface area, the scale at which the unit texture square covers the
-/// surface exactly. The residuals vanish iff the triangle maps to a square of side lambda / g: an
-/// isometry up to that one global scale, which is what both the angle and the area distortion
-/// measure (and Sander's L2 stretch, the figure of the comparison, is their smooth combination).
-/// They depend on the first fundamental form only, so they are rotation-invariant like ARAP. Why not
-/// springs in Ceres: a spring energy measures edge lengths only and reaches shear through the
-/// diagonals indirectly; the metric residuals see angles directly and are measured on the very
-/// triangles the distortion is reported on, so the two optimizers are compared on the same surface.
+/// Energy (chosen over spring lengths and over per-cell ARAP): the conformal energy of the map from
+/// texture space to the relief surface, the sum over the 2 g^2 triangles of
+///     (|a|^2 + |b|^2) / 2 - |a x b|  =  |a + n x b|^2 / 2,
+/// with a = dP/ds, b = dP/dt the columns of the triangle's Jacobian (the same triangles and
+/// Jacobians as measureDistortion) and n = a x b / |a x b| the triangle's unit normal: three
+/// residuals (a + n x b) / lambda per triangle (lambda^2: the relief's surface area). n x b is b
+/// turned by 90 degrees in the triangle's plane, so the residual vanishes iff the triangle is
+/// mapped conformally (a square goes to a square). Why this one:
+/// - It is the quasi-conformal goal of the paper, with no weights to tune, and it is the part of
+///   Sander's L2 stretch that a parameterization controls: L2^2 = 1 + E_conformal / area, so the
+///   optimizer lowers the figure the comparison reports; the springs and Ceres are compared on the
+///   same surface with the same measure.
+/// - Tried first and dropped: a per-cell "ARAP to a square of side lambda / g" residual
+///   (|a| - lambda, |b| - lambda, a.b) pulls rows of cells onto near-vertical walls and raised L2
+///   stretch above the identity's on the box relief; the plain Dirichlet energy (|a|^2 + |b|^2) / 2
+///   also rewards moving vertices off bumps (the corner-sampled area shrinks), which on the Sponza
+///   lion raised L2 stretch; a spring energy in Ceres sees shear only through the diagonals.
+/// Area distortion is not in the energy (a conformal map may scale); it is measured and reported.
 ///
 /// Derivatives are analytic: the height of each vertex is linearized with the exact gradient of the
 /// bilinear relief (ReliefMap::gradientAt) into first-order Ceres Jets. A step that would flip a
@@ -63,7 +69,7 @@ struct CeresReport {
 
 namespace detail {
 
-/// The three metric residuals of one triangle (and a barrier against folding); parameter blocks are its three vertices (u, v).
+/// The conformal residual of one triangle, (a + n x b) / lambda (and a barrier against folds); parameter blocks are its three vertices (u, v).
 /// `corner` orders the vertices so that a = (p1 - p0) g and b = (p2 - p1) g (lower triangle) or
 /// a = (p1 - p2) g and b = (p2 - p0) g (upper triangle), as in measureDistortion.
 class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
@@ -95,16 +101,18 @@ class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
       a[0] = (u[1] - u[2]) * mG, a[1] = (v[1] - v[2]) * mG, a[2] = (z[1] - z[2]) * mG;
       b[0] = (u[2] - u[0]) * mG, b[1] = (v[2] - v[0]) * mG, b[2] = (z[2] - z[0]) * mG;
     }
-    const J aa = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
-    const J bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
-    const J ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     // In-plane area relative to the identity's; a log barrier below kBarrier keeps the linear model
     // of Levenberg-Marquardt away from folds (hard rejection alone stalls it at the wall).
     const J det = (a[0] * b[1] - a[1] * b[0]);
     J barrier(0.0);
     if (det.a < kBarrier) barrier = log(kBarrier / det) * kBarrierWeight;
-    const J r[4] = {sqrt(aa) * mInvLambda - 1.0, sqrt(bb) * mInvLambda - 1.0,
-                    ab * (mInvLambda * mInvLambda), barrier};
+    // a + n x b, n the unit normal: |a + n x b|^2 / 2 = (|a|^2 + |b|^2) / 2 - |a x b|.
+    const J c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    const J cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const J n[3] = {c[0] / cn, c[1] / cn, c[2] / cn};
+    const J nb[3] = {n[1] * b[2] - n[2] * b[1], n[2] * b[0] - n[0] * b[2], n[0] * b[1] - n[1] * b[0]};
+    const double w = std::sqrt(0.5) * mInvLambda;
+    const J r[4] = {(a[0] + nb[0]) * w, (a[1] + nb[1]) * w, (a[2] + nb[2]) * w, barrier};
     for (int i = 0; i < 4; ++i) residuals[i] = r[i].a;
     if (jacobians)
       for (int k = 0; k < 3; ++k)

@@ -37,6 +37,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -108,6 +109,7 @@ class SpringLevel {
     }
     mCellH.assign(std::size_t(mG) * mG, 0.0f);
     mRowForce.assign(mSide, 0.0);
+    mRowBad.assign(mSide, 0);
     for (int s = 0; s < 4; ++s) mRest[s] = springRestLength(kDi[s], kDj[s], mG, o.restScale);
     mInvStep = 1.0f / (o.integrationStepTexels * relief.texelSize());
   }
@@ -197,10 +199,65 @@ class SpringLevel {
     for (double f : mRowForce) total += f;
     mGrid.u().swap(mNewU);
     mGrid.v().swap(mNewV);
+    undoCollapsingSteps();
     return total;
   }
 
  private:
+  /// The step clamp keeps triangles from flipping in exact arithmetic, but on near-vertical walls
+  /// cells are squeezed towards zero width and rounding could still fold one. A triangle whose new
+  /// area would be non-positive, or would shrink below kMinAreaRatio of an identity cell's, has the steps of
+  /// its vertices undone (repeated until none is left; the old grid had none).
+  /// The smallest triangle a step may leave, relative to the identity's. Far enough from float
+  /// rounding that refining to 2g (which quarters areas) cannot fold a triangle either.
+  static constexpr float kMinAreaRatio = 1e-2f;
+
+  void undoCollapsingSteps() {
+    const int g = mG, side = mSide;
+    const float minArea2 = kMinAreaRatio / (float(g) * float(g));
+    const float* u = mGrid.u().data();  // the new positions (swapped in)
+    const float* v = mGrid.v().data();
+    const float* ou = mNewU.data();     // the old ones
+    const float* ov = mNewV.data();
+    mBad.assign(std::size_t(g) * g, 0);
+    for (int round = 0; round < 16; ++round) {
+      tbb::parallel_for(tbb::blocked_range<int>(0, g, 4), [&](const tbb::blocked_range<int>& r) {
+        for (int j = r.begin(); j != r.end(); ++j) {
+          std::uint8_t any = 0;
+          for (int i = 0; i < g; ++i) {
+            std::uint8_t bad = 0;
+            for (const auto& tri : kCellTriangles) {
+              std::size_t k[3];
+              for (int c = 0; c < 3; ++c) k[c] = std::size_t(j + tri[c][1]) * side + i + tri[c][0];
+              const float a = signedArea2({u[k[0]], v[k[0]]}, {u[k[1]], v[k[1]]}, {u[k[2]], v[k[2]]});
+              if (a > minArea2) continue;
+              const float b = signedArea2({ou[k[0]], ov[k[0]]}, {ou[k[1]], ov[k[1]]}, {ou[k[2]], ov[k[2]]});
+              if (!(a > 0) || a < b) bad = 1;
+            }
+            mBad[std::size_t(j) * g + i] = bad;
+            any |= bad;
+          }
+          mRowBad[j] = any;
+        }
+      });
+      if (std::none_of(mRowBad.begin(), mRowBad.begin() + g, [](std::uint8_t b) { return b; }))
+        return;
+      tbb::parallel_for(tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
+        for (int j = r.begin(); j != r.end(); ++j)
+          for (int i = 0; i < side; ++i) {
+            bool bad = false;
+            for (int cj = j - 1; cj <= j; ++cj)
+              for (int ci = i - 1; ci <= i; ++ci)
+                if (ci >= 0 && ci < g && cj >= 0 && cj < g && mBad[std::size_t(cj) * g + ci]) bad = true;
+            if (!bad) continue;
+            const std::size_t k = std::size_t(j) * side + i;
+            mGrid.u()[k] = ou[k];
+            mGrid.v()[k] = ov[k];
+          }
+      });
+    }
+  }
+
   /// Twice the area over the longest edge, the smallest height, of the cell's two triangles.
   float cellMinHeight(int i, int j) const {
     float h = HUGE_VALF;
@@ -269,6 +326,7 @@ class SpringLevel {
   float mInvStep;
   std::vector<float> mZ, mGx, mGy, mNewU, mNewV, mCellH;
   std::vector<double> mRowForce;
+  std::vector<std::uint8_t> mBad, mRowBad;
   std::vector<float> mFx[4], mFy[4], mFxb[4], mFyb[4], mKa[4], mKb[4];
 };
 
