@@ -25,6 +25,8 @@ Command addCellsCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addReconstructCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
+Command addIndirectCommand(CLI::App& app);
+Command addCompareOptimizersCommand(CLI::App& app);
 
 /// Prints the `info` report of a mesh file (also used by `demo`).
 void printMeshInfo(const std::string& path);

@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
       cellrelief::app::addConvertCommand(app),
       cellrelief::app::addReconstructCommand(app),
       cellrelief::app::addRenderCommand(app),
+      cellrelief::app::addIndirectCommand(app),
+      cellrelief::app::addCompareOptimizersCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

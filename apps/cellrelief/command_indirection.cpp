@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: MIT
+/// @file command_indirection.cpp
+/// `cellrelief indirect <heightmap> -o indirection.png --optimizer springs|ceres`: the indirection
+/// map of a height map; and `cellrelief compare-optimizers [heightmaps...]`: springs against Ceres,
+/// distortion against time as CSV and a plot, a final table, and parallax pictures before and after.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <cellrelief/core/parallel.h>
+#include <cellrelief/indirection/distortion.h>
+#include <cellrelief/indirection/indirection_map.h>
+#include <cellrelief/indirection/parallax.h>
+#include <cellrelief/indirection/springs.h>
+#include <cellrelief/io/atomic_file.h>
+#include <cellrelief/io/image_io.h>
+#ifdef CELLRELIEF_HAS_CERES
+#include <cellrelief/indirection/ceres_optimizer.h>
+#endif
+
+#include "commands.h"
+#include "../common/plot.h"
+
+namespace cellrelief::app {
+
+namespace {
+
+using namespace indirection;
+
+struct IndirectionCli {
+  std::string heightmap, output, optimizer = "springs", wrap = "clamp", springForce = "in-plane";
+  int grid = 256, bits = 8, size = 0, threads = 0;
+  float heightScale = 0.1f;
+};
+
+Wrap parseWrap(const std::string& w) {
+  if (w == "clamp") return Wrap::Clamp;
+  if (w == "repeat") return Wrap::Repeat;
+  throw Error(ErrorKind::InvalidArgument, "--wrap takes clamp or repeat, not '" + w + "'");
+}
+
+bool ceresBuilt() {
+#ifdef CELLRELIEF_HAS_CERES
+  return true;
+#else
+  return false;
+#endif
+}
+
+void checkOptimizer(const std::string& name) {
+  if (name != "springs" && name != "ceres")
+    throw Error(ErrorKind::InvalidArgument,
+                "--optimizer takes springs or ceres, not '" + name + "'");
+  if (name == "ceres" && !ceresBuilt())
+    throw Error(ErrorKind::Unsupported,
+                "this build has no Ceres (install libceres-dev and reconfigure): use springs");
+}
+
+/// Runs one optimizer; `progress` as the optimizers take it.
+Grid optimize(const std::string& name, const ReliefMap& relief, int g, SpringForce force,
+              const ProgressCallback& progress, int& iterations) {
+  if (name == "springs") {
+    SpringOptions o;
+    o.gridSize = g;
+    o.force = force;
+    SpringReport r;
+    Grid grid = relaxSprings(relief, o, progress, &r);
+    iterations = r.iterations;
+    return grid;
+  }
+#ifdef CELLRELIEF_HAS_CERES
+  CeresOptions o;
+  o.gridSize = g;
+  CeresReport r;
+  Grid grid = optimizeCeres(relief, o, progress, &r);
+  iterations = r.iterations;
+  return grid;
+#else
+  (void)relief, (void)progress, (void)g, (void)iterations;
+  throw Error(ErrorKind::Unsupported, "this build has no Ceres");
+#endif
+}
+
+ReliefMap loadRelief(const std::string& path, float heightScale, Wrap wrap) {
+  if (!std::isfinite(heightScale) || heightScale <= 0 || heightScale > 100)
+    throw Error(ErrorKind::InvalidArgument,
+                "--height-scale must be in (0, 100], not " + std::to_string(heightScale));
+  return loadReliefMap(path, {heightScale, wrap});
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+  io::AtomicFile file(path);
+  {
+    std::ofstream out(file.temporaryPath());
+    out << text;
+    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot write");
+  }
+  file.commit();
+}
+
+int runIndirect(const IndirectionCli& o) {
+  if (o.output.empty()) throw Error(ErrorKind::InvalidArgument, "indirect needs -o indirection.png");
+  if (o.bits != 8 && o.bits != 16) throw Error(ErrorKind::InvalidArgument, "--bits takes 8 or 16");
+  checkOptimizer(o.optimizer);
+  checkGridSize(o.grid);
+  const SpringForce force = o.springForce == "tangent" ? SpringForce::Tangent : SpringForce::InPlane;
+  if (o.springForce != "tangent" && o.springForce != "in-plane")
+    throw Error(ErrorKind::InvalidArgument, "--spring-force takes in-plane or tangent");
+  const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
+  const ReliefMap relief = loadRelief(o.heightmap, o.heightScale, parseWrap(o.wrap));
+  std::printf("height map    %s: %dx%d, height scale %g, surface area %.4f\n", o.heightmap.c_str(),
+              relief.width(), relief.height(), relief.heightScale(), relief.surfaceArea());
+  int iterations = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Grid grid = optimize(o.optimizer, relief, o.grid, force, {}, iterations);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const Distortion before = measureDistortion(Grid(o.grid), relief);
+  const Distortion after = measureDistortion(grid, relief);
+  std::printf("optimizer     %s, g = %d: %d iterations, %.3f s\n", o.optimizer.c_str(), o.grid,
+              iterations, seconds);
+  std::printf("distortion    L2 stretch %.4f -> %.4f, angle mean %.4f -> %.4f (max %.2f), area mean "
+              "%.4f -> %.4f, flipped cells %zu\n",
+              before.l2Stretch, after.l2Stretch, before.angleMean, after.angleMean, after.angleMax,
+              before.areaMean, after.areaMean, after.flippedCells);
+  const int w = o.size > 0 ? o.size : relief.width(), h = o.size > 0 ? o.size : relief.height();
+  const Image<float> I = indirectionMap(grid, w, h);
+  Vec2f scale, bias;
+  if (o.bits == 8) {
+    const auto p = packIndirection<std::uint8_t>(I, 3);
+    io::writePng(p.texels, o.output);
+    scale = p.scale, bias = p.bias;
+  } else {
+    const auto p = packIndirection<std::uint16_t>(I, 3);
+    io::writePng(p.texels, o.output);
+    scale = p.scale, bias = p.bias;
+  }
+  std::ostringstream json;
+  json << "{\n  \"heightmap\": \"" << o.heightmap << "\",\n  \"optimizer\": \"" << o.optimizer
+       << "\",\n  \"grid\": " << o.grid << ",\n  \"height_scale\": " << o.heightScale
+       << ",\n  \"bits\": " << o.bits << ",\n  \"decode\": \"I = bias + scale * texel (R: u, G: v)\""
+       << ",\n  \"scale\": [" << scale.x << ", " << scale.y << "],\n  \"bias\": [" << bias.x << ", "
+       << bias.y << "]\n}\n";
+  writeText(o.output + ".json", json.str());
+  std::printf("wrote         %s (%dx%d, %d-bit, R = I_u, G = I_v) and %s.json (scale, bias)\n",
+              o.output.c_str(), w, h, o.bits, o.output.c_str());
+  return 0;
+}
+
+// ---- compare-optimizers -------------------------------------------------------------------------
+
+struct CompareCli {
+  std::vector<std::string> heightmaps;
+  std::string out = "out/indirection";
+  int grid = 256, threads = 2;
+  float heightScale = 0.1f;
+  bool quick = false, pictures = true;
+};
+
+struct Sample {
+  double seconds;
+  Distortion d;
+};
+
+struct Run {
+  std::string map, optimizer;
+  std::vector<Sample> curve;
+  Distortion final;
+  double seconds = 0;
+  int iterations = 0;
+  Grid grid;
+};
+
+/// The first time the excess distortion L2 - 1 is within `fraction` of the best's.
+double timeToReach(const Run& run, double best, double fraction) {
+  for (const Sample& s : run.curve)
+    if (s.d.l2Stretch - 1 <= (best - 1) * (1 + fraction)) return s.seconds;
+  return NAN;
+}
+
+std::string fmtTime(double s) {
+  char buf[32];
+  if (std::isnan(s)) return "never";
+  std::snprintf(buf, sizeof buf, "%.3f s", s);
+  return buf;
+}
+
+int runCompare(CompareCli o) {
+  if (o.heightmaps.empty()) {
+    const std::filesystem::path data = std::filesystem::path(CELLRELIEF_DATA_DIR) / "heightmaps";
+    o.heightmaps = {(data / "sponza/lion_bump.png").string(),
+                    (data / "sponza/spnza_bricks_a_bump.png").string()};
+  }
+  if (o.quick) o.grid = std::min(o.grid, 64);
+  checkGridSize(o.grid);
+  std::filesystem::create_directories(o.out);
+  const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
+  std::vector<std::string> optimizers = {"springs"};
+  if (ceresBuilt()) optimizers.push_back("ceres");
+  else std::printf("(this build has no Ceres: springs only)\n");
+
+  std::vector<Run> runs;
+  std::ostringstream csv;
+  csv << "heightmap,optimizer,seconds,g_level,l2_stretch,angle_mean,area_mean,angle_max,"
+         "flipped_cells\n";
+  for (const std::string& path : o.heightmaps) {
+    ReliefMap relief = loadRelief(path, o.heightScale, Wrap::Clamp);
+    if (o.quick) relief = downsample(relief, 256);
+    const std::string name = std::filesystem::path(path).stem().string();
+    const Distortion identity = measureDistortion(Grid(o.grid), relief);
+    std::printf("%s: %dx%d, height scale %g, g = %d, identity L2 %.4f, angle %.4f, area %.4f\n",
+                name.c_str(), relief.width(), relief.height(), relief.heightScale(), o.grid,
+                identity.l2Stretch, identity.angleMean, identity.areaMean);
+    for (const std::string& opt : optimizers) {
+      Run run;
+      run.map = name;
+      run.optimizer = opt;
+      run.curve.push_back({0.0, identity});
+      // Distortion of the map as it stands, at the target g (coarse levels refined to it, which is
+      // the map one would get by stopping there). Not charged to the optimizer's time.
+      auto progress = [&](const Grid& grid, const Progress& p) {
+        const Distortion d = measureDistortion(
+            grid.g() == o.grid ? grid : grid.resampled(o.grid), relief);
+        run.curve.push_back({p.seconds, d});
+        csv << name << "," << opt << "," << p.seconds << "," << p.g << "," << d.l2Stretch << ","
+            << d.angleMean << "," << d.areaMean << "," << d.angleMax << "," << d.flippedCells
+            << "\n";
+      };
+      const auto t0 = std::chrono::steady_clock::now();
+      run.grid = optimize(opt, relief, o.grid, SpringForce::InPlane, progress, run.iterations);
+      run.seconds = run.curve.back().seconds;
+      run.final = measureDistortion(run.grid, relief);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("  %-8s %6.3f s (%.1f s with measurements), %d iterations, L2 %.4f, angle %.4f, "
+                  "area %.4f, flips %zu\n",
+                  opt.c_str(), run.seconds, wall, run.iterations, run.final.l2Stretch,
+                  run.final.angleMean, run.final.areaMean, run.final.flippedCells);
+      runs.push_back(std::move(run));
+    }
+    if (o.pictures) {  // parallax pictures before and after, with the lower-distortion result
+      const Run* best = nullptr;
+      for (const Run& r : runs)
+        if (r.map == name && (!best || r.final.l2Stretch < best->final.l2Stretch)) best = &r;
+      const Image<float> I = indirectionMap(best->grid, 512, 512);
+      ParallaxView view;
+      const ReliefMap shown = o.quick ? relief : downsample(relief, 1024);
+      io::writePng(renderParallax(shown, nullptr, checkerboard(16), view),
+                   std::filesystem::path(o.out) / ("indirection_" + name + "_pom_before.png"));
+      io::writePng(renderParallax(shown, &I, checkerboard(16), view),
+                   std::filesystem::path(o.out) / ("indirection_" + name + "_pom_after_" +
+                                                   best->optimizer + ".png"));
+    }
+  }
+  writeText(std::filesystem::path(o.out) / "indirection_convergence.csv", csv.str());
+
+  // The table: time to within 1% and 5% of the best final excess distortion (L2 - 1) per map.
+  std::printf("\n%-22s %-8s %10s %10s %10s %9s %9s %9s %6s\n", "heightmap", "optimizer", "to 5%",
+              "to 1%", "total", "L2", "angle", "area", "flips");
+  std::map<std::string, double> best;
+  for (const Run& r : runs)
+    best[r.map] = best.count(r.map) ? std::min(best[r.map], r.final.l2Stretch) : r.final.l2Stretch;
+  Plot plot;
+  plot.title = "Convergence: L2 stretch on the relief surface, g = " + std::to_string(o.grid);
+  plot.xLabel = "optimizer time (s)";
+  plot.yLabel = "L2 stretch";
+  for (const Run& r : runs) {
+    std::printf("%-22s %-8s %10s %10s %10s %9.4f %9.4f %9.4f %6zu\n", r.map.c_str(),
+                r.optimizer.c_str(), fmtTime(timeToReach(r, best[r.map], 0.05)).c_str(),
+                fmtTime(timeToReach(r, best[r.map], 0.01)).c_str(), fmtTime(r.seconds).c_str(),
+                r.final.l2Stretch, r.final.angleMean, r.final.areaMean, r.final.flippedCells);
+    PlotSeries s;
+    s.name = r.map + " " + r.optimizer;
+    s.color = Plot::palette(plot.series.size());
+    s.lines = true;
+    for (const Sample& p : r.curve) {
+      s.x.push_back(p.seconds);
+      s.y.push_back(p.d.l2Stretch);
+    }
+    plot.series.push_back(std::move(s));
+  }
+  std::printf("(times exclude the distortion measurements; 'to 1%%': excess L2 stretch - 1 within "
+              "1%% of the best final of that map)\n");
+  plot.write(std::filesystem::path(o.out) / "indirection_convergence.png");
+  std::printf("wrote %s/indirection_convergence.csv, indirection_convergence.png%s\n",
+              o.out.c_str(), o.pictures ? " and the parallax pictures" : "");
+  return 0;
+}
+
+}  // namespace
+
+Command addIndirectCommand(CLI::App& app) {
+  auto o = std::make_shared<IndirectionCli>();
+  CLI::App* cmd = app.add_subcommand(
+      "indirect", "indirection map of a height map (quasi-conformal relief texturing)");
+  cmd->add_option("heightmap", o->heightmap, "height map: PNG/JPEG/BMP gray, TGA alpha, 8/16 bit")
+      ->required();
+  cmd->add_option("-o,--output", o->output, "indirection map PNG (R = I_u, G = I_v; scale and bias "
+                                            "in <output>.json)");
+  cmd->add_option("--optimizer", o->optimizer, "springs (the paper) or ceres")->capture_default_str();
+  cmd->add_option("--grid", o->grid, "grid cells a side, g")->capture_default_str();
+  cmd->add_option("--height-scale", o->heightScale, "height of H = 1 in tile widths")
+      ->capture_default_str();
+  cmd->add_option("--wrap", o->wrap, "height map borders: clamp or repeat")->capture_default_str();
+  cmd->add_option("--bits", o->bits, "8 or 16 bits per channel")->capture_default_str();
+  cmd->add_option("--size", o->size, "indirection map size (default: the height map's)");
+  cmd->add_option("--spring-force", o->springForce,
+                  "in-plane (the paper) or tangent (the spring energy's gradient)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "worker threads (0: all cores)");
+  return {cmd, [o] { return runIndirect(*o); }};
+}
+
+Command addCompareOptimizersCommand(CLI::App& app) {
+  auto o = std::make_shared<CompareCli>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare-optimizers", "springs versus Ceres: distortion against time, CSV, plot, table");
+  cmd->add_option("heightmaps", o->heightmaps, "height maps (default: Sponza lion and bricks)");
+  cmd->add_option("--grid", o->grid, "grid cells a side, g")->capture_default_str();
+  cmd->add_option("--height-scale", o->heightScale, "height of H = 1 in tile widths")
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "output folder")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
+  cmd->add_flag("--quick", o->quick, "small run (maps at 256, g <= 64) for smoke tests");
+  cmd->add_flag("!--no-pictures", o->pictures, "skip the parallax pictures");
+  return {cmd, [o] { return runCompare(*o); }};
+}
+
+}  // namespace cellrelief::app
