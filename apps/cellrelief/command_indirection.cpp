@@ -50,9 +50,9 @@ bool ceresBuilt() {
 }
 
 void checkOptimizer(const std::string& name) {
-  if (name != "springs" && name != "ceres")
+  if (name != "springs" && name != "springs-chord" && name != "ceres")
     throw Error(ErrorKind::InvalidArgument,
-                "--optimizer takes springs or ceres, not '" + name + "'");
+                "--optimizer takes springs, springs-chord or ceres, not '" + name + "'");
   if (name == "ceres" && !ceresBuilt())
     throw Error(ErrorKind::Unsupported,
                 "this build has no Ceres (install libceres-dev and reconfigure): use springs");
@@ -61,10 +61,11 @@ void checkOptimizer(const std::string& name) {
 /// Runs one optimizer; `progress` as the optimizers take it.
 Grid optimize(const std::string& name, const ReliefMap& relief, int g, SpringForce force,
               const ProgressCallback& progress, int& iterations) {
-  if (name == "springs") {
+  if (name == "springs" || name == "springs-chord") {
     SpringOptions o;
     o.gridSize = g;
     o.force = force;
+    if (name == "springs-chord") o.minSteps = o.maxSteps = 1;  // corner-to-corner lengths
     SpringReport r;
     Grid grid = relaxSprings(relief, o, progress, &r);
     iterations = r.iterations;
@@ -196,7 +197,7 @@ int runCompare(CompareCli o) {
   checkGridSize(o.grid);
   std::filesystem::create_directories(o.out);
   const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
-  std::vector<std::string> optimizers = {"springs"};
+  std::vector<std::string> optimizers = {"springs", "springs-chord"};
   if (ceresBuilt()) optimizers.push_back("ceres");
   else std::printf("(this build has no Ceres: springs only)\n");
 
@@ -297,7 +298,9 @@ Command addIndirectCommand(CLI::App& app) {
       ->required();
   cmd->add_option("-o,--output", o->output, "indirection map PNG (R = I_u, G = I_v; scale and bias "
                                             "in <output>.json)");
-  cmd->add_option("--optimizer", o->optimizer, "springs (the paper) or ceres")->capture_default_str();
+  cmd->add_option("--optimizer", o->optimizer,
+                  "springs (the paper), springs-chord (lengths between grid vertices) or ceres")
+      ->capture_default_str();
   cmd->add_option("--grid", o->grid, "grid cells a side, g")->capture_default_str();
   cmd->add_option("--height-scale", o->heightScale, "height of H = 1 in tile widths")
       ->capture_default_str();

@@ -57,6 +57,7 @@ struct CeresOptions {
   double coarseFunctionTolerance = 1e-3;  ///< coarse levels only initialize the next one
   int threads = 0;                      ///< 0: one per hardware thread
   bool dogleg = false;                  ///< trust region: dogleg instead of Levenberg-Marquardt
+  double initialTrustRegionRadius = 1e4;  ///< Ceres' default; smaller starts more cautiously
   ceres::LinearSolverType linearSolver = ceres::SPARSE_NORMAL_CHOLESKY;
   bool verbose = false;                 ///< Ceres' per-iteration log on stdout
 };
@@ -215,6 +216,7 @@ inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options =
     if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
       so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
     so.trust_region_strategy_type = options.dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+    so.initial_trust_region_radius = options.initialTrustRegionRadius;
     so.num_threads =
         options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     so.max_num_iterations = last ? options.maxFinalIterations : options.maxIterations;

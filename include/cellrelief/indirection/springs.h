@@ -68,7 +68,7 @@ struct SpringOptions {
   float maxStepFraction = 1.0f / 3.0f;  ///< of the smallest incident triangle height
   double tolerance = 1e-3;        ///< relative change of the total force that ends a level
   int patience = 3;               ///< iterations in a row below the tolerance
-  int maxIterations = 5000;       ///< per level
+  int maxIterations = 2000;       ///< per level
   int reportEvery = 10;           ///< iterations between progress callbacks
 };
 
