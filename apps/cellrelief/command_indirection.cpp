@@ -50,10 +50,10 @@ bool ceresBuilt() {
 }
 
 void checkOptimizer(const std::string& name) {
-  if (name != "springs" && name != "springs-chord" && name != "ceres")
+  if (name != "springs" && name != "springs-chord" && name != "ceres" && name != "ceres-lm")
     throw Error(ErrorKind::InvalidArgument,
-                "--optimizer takes springs, springs-chord or ceres, not '" + name + "'");
-  if (name == "ceres" && !ceresBuilt())
+                "optimizers are springs, springs-chord, ceres and ceres-lm, not '" + name + "'");
+  if (name.rfind("ceres", 0) == 0 && !ceresBuilt())
     throw Error(ErrorKind::Unsupported,
                 "this build has no Ceres (install libceres-dev and reconfigure): use springs");
 }
@@ -74,6 +74,11 @@ Grid optimize(const std::string& name, const ReliefMap& relief, int g, SpringFor
 #ifdef CELLRELIEF_HAS_CERES
   CeresOptions o;
   o.gridSize = g;
+  if (name == "ceres-lm") {  // Levenberg-Marquardt, sparse Cholesky: the plain Ceres solve
+    o.lbfgs = false;
+    o.maxIterations = 15;
+    o.maxFinalIterations = 50;
+  }
   CeresReport r;
   Grid grid = optimizeCeres(relief, o, progress, &r);
   iterations = r.iterations;
@@ -153,7 +158,7 @@ int runIndirect(const IndirectionCli& o) {
 
 struct CompareCli {
   std::vector<std::string> heightmaps;
-  std::string out = "out/indirection";
+  std::string out = "out/indirection", optimizers = "springs,springs-chord,ceres";
   int grid = 256, threads = 2;
   float heightScale = 0.1f;
   bool quick = false, pictures = true;
@@ -197,9 +202,19 @@ int runCompare(CompareCli o) {
   checkGridSize(o.grid);
   std::filesystem::create_directories(o.out);
   const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
-  std::vector<std::string> optimizers = {"springs", "springs-chord"};
-  if (ceresBuilt()) optimizers.push_back("ceres");
-  else std::printf("(this build has no Ceres: springs only)\n");
+  std::vector<std::string> optimizers;
+  for (std::size_t start = 0; start <= o.optimizers.size();) {
+    std::size_t comma = o.optimizers.find(',', start);
+    if (comma == std::string::npos) comma = o.optimizers.size();
+    const std::string name = o.optimizers.substr(start, comma - start);
+    start = comma + 1;
+    if (name.rfind("ceres", 0) == 0 && !ceresBuilt()) {
+      std::printf("(this build has no Ceres: %s left out)\n", name.c_str());
+      continue;
+    }
+    checkOptimizer(name);
+    optimizers.push_back(name);
+  }
 
   std::vector<Run> runs;
   std::ostringstream csv;
@@ -299,7 +314,8 @@ Command addIndirectCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "indirection map PNG (R = I_u, G = I_v; scale and bias "
                                             "in <output>.json)");
   cmd->add_option("--optimizer", o->optimizer,
-                  "springs (the paper), springs-chord (lengths between grid vertices) or ceres")
+                  "springs (the paper), springs-chord (lengths between grid vertices), ceres "
+                  "(L-BFGS) or ceres-lm (Levenberg-Marquardt)")
       ->capture_default_str();
   cmd->add_option("--grid", o->grid, "grid cells a side, g")->capture_default_str();
   cmd->add_option("--height-scale", o->heightScale, "height of H = 1 in tile widths")
@@ -323,6 +339,9 @@ Command addCompareOptimizersCommand(CLI::App& app) {
   cmd->add_option("--height-scale", o->heightScale, "height of H = 1 in tile widths")
       ->capture_default_str();
   cmd->add_option("--out", o->out, "output folder")->capture_default_str();
+  cmd->add_option("--optimizers", o->optimizers,
+                  "comma-separated: springs, springs-chord, ceres (L-BFGS), ceres-lm")
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--quick", o->quick, "small run (maps at 256, g <= 64) for smoke tests");
   cmd->add_flag("!--no-pictures", o->pictures, "skip the parallax pictures");
