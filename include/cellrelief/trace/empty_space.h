@@ -2,16 +2,16 @@
 /// @file empty_space.h
 /// Conservative empty-space skipping for the relief tracer, beyond the paper: a min pyramid of
 /// each distance layer (a "maximum mipmap" in the sense of Tevs et al. 2008, with distances from
-/// the face instead of heights). Level 0 holds, for each texel cell between four vertex-centred
-/// samples, the smallest of the four distance codes: the bilinear surface over that texel cell
-/// never comes closer to the face than this. Level k takes the minimum over 2x2 cells of level
-/// k-1. A ray segment whose distance from the face stays below a node's minimum over the node's
+/// the face instead of heights). Level 0 stands for each texel cell between four vertex-centred
+/// samples and the smallest of their distance codes: the bilinear surface over that texel cell
+/// never comes closer to the face than this (the tracer reads it from the samples; it is not
+/// stored). Level k takes the minimum over 2x2 nodes of level k-1. A ray segment whose distance from the face stays below a node's minimum over the node's
 /// footprint cannot meet the surface there and is skipped in one step, so thin features are
 /// never missed (the bound is exact, not sampled).
 ///
 /// Codes, not distances, are stored: dequantization is monotonic, so the minimum code is the
-/// minimum distance, and the pyramid costs 2 bytes per texel cell and level (about 2.7 bytes per
-/// sample in all). An empty sample (no surface on its projection line) has the empty code, the
+/// minimum distance, and the pyramid costs 2 bytes per node of levels 1 and up (about 0.7 bytes
+/// per sample in all). An empty sample (no surface on its projection line) has the empty code, the
 /// largest, so a texel cell with any empty corner reads as "no surface", as the tracer reads it.
 #pragma once
 
@@ -30,32 +30,33 @@ class EmptySpacePyramid {
   explicit EmptySpacePyramid(const relief::ReliefModel& model) {
     mLayers = model.layerCount();
     const int base = std::max(1, model.texels - 1);
-    for (int size = base;; size = (size + 1) / 2) {
+    // Level 0 (one node per texel cell) is not stored: the tracer reads the four samples of a
+    // texel cell anyway, and keeping it would cost more than the distance map itself.
+    mSizes.push_back(base);
+    mOffsets.push_back(0);
+    for (int size = base; size > 1;) {
+      size = (size + 1) / 2;
       mSizes.push_back(size);
       mOffsets.push_back(mLayerStride);
       mLayerStride += std::size_t(size) * std::size_t(size);
-      if (size == 1) break;
     }
-    mCodes.assign(mLayerStride * std::size_t(mLayers), 0xffffu);
+    mCodes.assign(mLayerStride * std::size_t(mLayers), kEmpty);
+    const std::uint32_t empty = model.emptyCode();
+    std::vector<std::uint16_t> level0(std::size_t(base) * base);
     for (int layer = 0; layer < mLayers; ++layer) {
-      std::uint16_t* level0 = levelData(layer, 0);
       for (int b = 0; b < base; ++b)
         for (int a = 0; a < base; ++a) {
-          std::uint32_t m = model.distanceCode(layer, a, b);
-          m = std::min(m, model.distanceCode(layer, a + 1, b));
-          m = std::min(m, model.distanceCode(layer, a, b + 1));
-          m = std::min(m, model.distanceCode(layer, a + 1, b + 1));
+          const std::uint32_t c[4] = {model.distanceCode(layer, a, b), model.distanceCode(layer, a + 1, b),
+                                      model.distanceCode(layer, a, b + 1),
+                                      model.distanceCode(layer, a + 1, b + 1)};
           // An empty corner makes the whole texel cell empty for the tracer.
-          const std::uint32_t empty = model.emptyCode();
-          const bool anyEmpty = model.distanceCode(layer, a, b) == empty ||
-                                model.distanceCode(layer, a + 1, b) == empty ||
-                                model.distanceCode(layer, a, b + 1) == empty ||
-                                model.distanceCode(layer, a + 1, b + 1) == empty;
-          level0[std::size_t(b) * base + a] = anyEmpty ? kEmpty : std::uint16_t(m);
+          const bool anyEmpty = c[0] == empty || c[1] == empty || c[2] == empty || c[3] == empty;
+          level0[std::size_t(b) * base + a] =
+              anyEmpty ? kEmpty : std::uint16_t(std::min({c[0], c[1], c[2], c[3]}));
         }
       for (int level = 1; level < levels(); ++level) {
         const int size = mSizes[level], below = mSizes[level - 1];
-        const std::uint16_t* src = levelData(layer, level - 1);
+        const std::uint16_t* src = level == 1 ? level0.data() : levelData(layer, level - 1);
         std::uint16_t* dst = levelData(layer, level);
         for (int b = 0; b < size; ++b)
           for (int a = 0; a < size; ++a) {
@@ -77,7 +78,7 @@ class EmptySpacePyramid {
   int levels() const { return int(mSizes.size()); }
   /// Texel cells per side at a level (level 0: T - 1).
   int size(int level) const { return mSizes[level]; }
-  /// Smallest code over a node; a code >= emptyCode() means no surface under the node.
+  /// Smallest code over a node of level >= 1; a code >= emptyCode() means no surface under it.
   std::uint32_t code(int layer, int level, int a, int b) const {
     return mCodes[std::size_t(layer) * mLayerStride + mOffsets[level] +
                   std::size_t(b) * mSizes[level] + a];

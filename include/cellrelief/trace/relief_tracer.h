@@ -11,10 +11,11 @@
 /// Two ways to search a cell:
 /// - linear + binary (the paper): a linear search finds the first sample past the surface and a
 ///   binary search refines it. The number of linear steps is the search policy's choice; the
-///   default, BalancedSearch, follows the ray's slant to the face it enters through (de Toledo et
-///   al., Geometry Textures 4.1): a ray along the projection direction needs few samples, a
-///   grazing ray many. Perspective and axial cells switch faces along the ray, so they always take
-///   the full number.
+///   default, BalancedSearch, balances it to the segment's footprint on the maps (de Toledo et al.,
+///   Geometry Textures 4.1, generalized from the slant to every projection): a ray along the
+///   projection direction crosses few texels and needs few samples, a grazing ray one or two per
+///   texel it crosses. The footprint is measured by projecting points of the segment (central
+///   projection maps a straight segment to a straight one on a face; axial is sampled).
 /// - empty-space skipping (TraceOptions::skipEmptySpace, beyond the paper): in parallel and planar
 ///   cells, whose distance is linear along the ray, the ray walks a min pyramid of the layer
 ///   (empty_space.h) and skips every node it provably cannot hit; in each texel cell it still has
@@ -50,38 +51,34 @@
 namespace cellrelief::trace {
 
 struct TraceOptions {
-  int minLinearSteps = 4;   ///< linear samples per cell for a ray along the projection direction
-  int maxLinearSteps = 64;  ///< ... for a ray grazing the face
+  int minLinearSteps = 4;      ///< linear samples per cell for a ray along the projection direction
+  int maxLinearSteps = 64;     ///< at most, for a ray grazing the face
+  float stepsPerTexel = 1.5f;  ///< linear samples per texel the ray's projection crosses
   int binarySteps = 8;      ///< refinement after the linear search (1 / 256 of a linear step)
   bool skipEmptySpace = true;  ///< min-pyramid skipping and exact texel tests in parallel/planar cells
+  bool operator==(const TraceOptions&) const = default;
 };
 
 /// A search policy decides how many linear samples a ray segment inside a cell gets.
-/// Requirements: a static `linearSteps(options, slant, lengthCells, singleDirection)` returning
-/// the count (>= 1), where slant = |cos| of the angle between the ray and the entry face's normal,
-/// lengthCells the segment's length in cell units, and singleDirection whether the cell's
-/// projection has one direction (parallel, planar).
+/// Requirements: a static `linearSteps(options, footprintTexels)` returning the count (>= 2),
+/// where footprintTexels is how many texels of the maps the segment's projection crosses.
 template <class S>
-concept SearchPolicy = requires(const TraceOptions& o, double x, bool b) {
-  { S::linearSteps(o, x, x, b) } -> std::convertible_to<int>;
+concept SearchPolicy = requires(const TraceOptions& o, double footprint) {
+  { S::linearSteps(o, footprint) } -> std::convertible_to<int>;
 };
 
-/// Slant-balanced linear search (de Toledo et al.): few samples along the projection direction,
-/// maxLinearSteps for grazing rays, in proportion to the length of the segment.
+/// Footprint-balanced linear search: minLinearSteps plus stepsPerTexel for each texel crossed,
+/// at most maxLinearSteps.
 struct BalancedSearch {
-  static int linearSteps(const TraceOptions& o, double slant, double lengthCells, bool singleDirection) {
-    const double perCell = singleDirection
-        ? o.minLinearSteps + (1.0 - slant) * (o.maxLinearSteps - o.minLinearSteps)
-        : double(o.maxLinearSteps);
-    return std::clamp(int(std::ceil(lengthCells * perCell)), 2, std::max(2, o.maxLinearSteps));
+  static int linearSteps(const TraceOptions& o, double footprintTexels) {
+    const double steps = o.minLinearSteps + o.stepsPerTexel * footprintTexels;
+    return std::clamp(int(std::ceil(steps)), 2, std::max(2, o.maxLinearSteps));
   }
 };
 
 /// The paper's plain search: maxLinearSteps samples in every cell, whatever the ray.
 struct UniformSearch {
-  static int linearSteps(const TraceOptions& o, double, double, bool) {
-    return std::max(2, o.maxLinearSteps);
-  }
+  static int linearSteps(const TraceOptions& o, double) { return std::max(2, o.maxLinearSteps); }
 };
 
 /// Where a ray met the relief surface.
@@ -118,6 +115,12 @@ class ReliefTracer {
     mCellSize = T(model.cellSizeWS);
     mDistanceScale = model.maxCode() > 0 ? T(double(model.distanceMax) / double(model.maxCode())) : T(0);
     if (options.skipEmptySpace) mPyramid = EmptySpacePyramid(model);
+    if (model.layerCount() > 0) {
+      if (model.distanceBits == 16)
+        mCodes16 = model.distances16.levelData(0).data();
+      else
+        mCodes8 = model.distances8.levelData(0).data();
+    }
   }
 
   const relief::ReliefModel& model() const { return mModel; }
@@ -131,7 +134,8 @@ class ReliefTracer {
   Hit intersect(const Ray<T>& ray) const {
     const RayInterval<T> span = cellrelief::intersect(ray, mBounds);
     if (!span.hit) return {};
-    openvdb::Int32Grid::ConstAccessor acc = mGrid->getConstAccessor();
+    // Unregistered: a registered accessor takes a lock in the tree on creation, once per ray.
+    auto acc = mGrid->getConstUnsafeAccessor();
     const int n = mModel.gridSize;
     const T h = mCellSize;
     // DDA in index space, starting in the cell that holds the entry point.
@@ -206,6 +210,14 @@ class ReliefTracer {
     return {(ray.origin - cellOrigin) / mCellSize, ray.direction / mCellSize};
   }
 
+  /// The distance code of sample (a, b) of a layer, read straight from the level-0 texels (the
+  /// inner loop's read: ImageArray::at's general indexing costs more than the search around it).
+  std::uint32_t sampleCode(int layer, int a, int b) const {
+    const std::size_t i = (std::size_t(layer) * std::size_t(mModel.texels) + std::size_t(b)) *
+                              std::size_t(mModel.texels) + std::size_t(a);
+    return mCodes16 ? mCodes16[i] : mCodes8[i];
+  }
+
   /// Bilinearly filtered stored distance at face coordinates, or nullopt when one of the four
   /// samples is empty (the rim of the surface's projection: the field changes side there).
   std::optional<T> stored(int layer, const Vec2<T>& uv) const {
@@ -215,10 +227,10 @@ class ReliefTracer {
     const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
     const T fx = x - T(a0), fy = y - T(b0);
     const std::uint32_t empty = mModel.emptyCode();
-    const std::uint32_t c00 = mModel.distanceCode(layer, a0, b0);
-    const std::uint32_t c10 = mModel.distanceCode(layer, a0 + 1, b0);
-    const std::uint32_t c01 = mModel.distanceCode(layer, a0, b0 + 1);
-    const std::uint32_t c11 = mModel.distanceCode(layer, a0 + 1, b0 + 1);
+    const std::uint32_t c00 = sampleCode(layer, a0, b0);
+    const std::uint32_t c10 = sampleCode(layer, a0 + 1, b0);
+    const std::uint32_t c01 = sampleCode(layer, a0, b0 + 1);
+    const std::uint32_t c11 = sampleCode(layer, a0 + 1, b0 + 1);
     if (c00 == empty || c10 == empty || c01 == empty || c11 == empty) return std::nullopt;
     const T top = T(c00) + fx * (T(c10) - T(c00));
     const T bottom = T(c01) + fx * (T(c11) - T(c01));
@@ -282,20 +294,26 @@ class ReliefTracer {
     if constexpr (kSingleDirection) {
       if (mOptions.skipEmptySpace) return skipSearch(proj, r, index, ray, frame, t0, t1);
     }
-    return linearBinarySearch(proj, r, index, ray, frame, t0, t1, kSingleDirection);
+    return linearBinarySearch(proj, r, index, ray, frame, t0, t1);
   }
 
   template <class P>
   Hit linearBinarySearch(const P& proj, const relief::CellRecord& r, std::int32_t index,
-                         const Ray<T>& ray, const CellFrame& frame, T t0, T t1,
-                         bool singleDirection) const {
+                         const Ray<T>& ray, const CellFrame& frame, T t0, T t1) const {
     auto local = [&](T t) { return frame.origin + t * frame.direction; };
     projection::FacePoint<T> fp;
     T fPrev = field(proj, r, local(t0), fp);
-    const T length = glm::length(frame.direction);
-    const T slant = std::abs(glm::dot(frame.direction, Vec3<T>(cells::faceNormal(fp.face)))) / length;
-    const int linear = Search::linearSteps(mOptions, double(slant), double((t1 - t0) * length),
-                                           singleDirection);
+    // The footprint on the maps, from four points of the segment; a change of face counts as a
+    // whole face crossed (conservative: the two pieces meet on the shared edge).
+    T footprint = 0;
+    projection::FacePoint<T> a = fp;
+    for (int k = 1; k <= 3; ++k) {
+      const projection::FacePoint<T> b =
+          proj.project(glm::clamp(local(t0 + (t1 - t0) * T(k) / T(3)), Vec3<T>(0), Vec3<T>(1)));
+      footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
+      a = b;
+    }
+    const int linear = Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1)));
     T tPrev = t0;
     std::uint32_t steps = 1;
     for (int i = 1; i <= linear; ++i) {
@@ -394,7 +412,17 @@ class ReliefTracer {
       if (dx != 0) sExit = std::min(sExit, (T(dx > 0 ? (ix + 1) * size : ix * size) - x0) / dx);
       if (dy != 0) sExit = std::min(sExit, (T(dy > 0 ? (iy + 1) * size : iy * size) - y0) / dy);
       sExit = std::max(sExit, s + kProgress);
-      const std::uint32_t code = mPyramid.code(layer, level, ix, iy);
+      std::uint32_t code = 0;
+      if (level > 0) {
+        code = mPyramid.code(layer, level, ix, iy);
+      } else {
+        const std::uint32_t c[4] = {sampleCode(layer, ix, iy), sampleCode(layer, ix + 1, iy),
+                                    sampleCode(layer, ix, iy + 1), sampleCode(layer, ix + 1, iy + 1)};
+        const std::uint32_t empty = mModel.emptyCode();
+        code = c[0] == empty || c[1] == empty || c[2] == empty || c[3] == empty
+                   ? empty
+                   : std::min({c[0], c[1], c[2], c[3]});
+      }
       const T deepest = std::max(depthAt(s), depthAt(std::min(sExit, T(1))));
       if (mPyramid.isEmptyCode(code) || deepest < T(code) * mDistanceScale) {
         if (inside) return hitAt(s);
@@ -408,10 +436,10 @@ class ReliefTracer {
       }
       // A texel cell: f(s) = depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
       const T s1 = std::min(sExit, T(1));
-      const T d00 = T(mModel.distanceCode(layer, ix, iy)) * mDistanceScale;
-      const T d10 = T(mModel.distanceCode(layer, ix + 1, iy)) * mDistanceScale;
-      const T d01 = T(mModel.distanceCode(layer, ix, iy + 1)) * mDistanceScale;
-      const T d11 = T(mModel.distanceCode(layer, ix + 1, iy + 1)) * mDistanceScale;
+      const T d00 = T(sampleCode(layer, ix, iy)) * mDistanceScale;
+      const T d10 = T(sampleCode(layer, ix + 1, iy)) * mDistanceScale;
+      const T d01 = T(sampleCode(layer, ix, iy + 1)) * mDistanceScale;
+      const T d11 = T(sampleCode(layer, ix + 1, iy + 1)) * mDistanceScale;
       const T ax = x0 - T(ix), ay = y0 - T(iy);  // local coordinates at s = 0, slopes dx, dy
       const T e = d00 - d10 - d01 + d11;
       // bilinear = d00 + (d10 - d00) fx + (d01 - d00) fy + e fx fy with fx = ax + dx s, fy = ay + dy s
@@ -480,12 +508,12 @@ class ReliefTracer {
     int b = std::clamp(int(std::lround(hit.texel.y)), 0, texels - 1);
     // A hit at the rim of the surface's projection (a crossing found at a cell face or a texel
     // edge) can round to an empty sample: shade from the nearest filled one within two samples.
-    if (mModel.distanceCode(layer, a, b) == mModel.emptyCode()) {
+    if (sampleCode(layer, a, b) == mModel.emptyCode()) {
       int best = std::numeric_limits<int>::max(), bestA = a, bestB = b;
       for (int y = std::max(0, b - 2); y <= std::min(texels - 1, b + 2); ++y)
         for (int x = std::max(0, a - 2); x <= std::min(texels - 1, a + 2); ++x) {
           const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
-          if (d2 < best && mModel.distanceCode(layer, x, y) != mModel.emptyCode())
+          if (d2 < best && sampleCode(layer, x, y) != mModel.emptyCode())
             best = d2, bestA = x, bestB = y;
         }
       a = bestA;
@@ -531,6 +559,8 @@ class ReliefTracer {
   T mCellSize = 1;
   T mDistanceScale = 0;
   EmptySpacePyramid mPyramid;
+  const std::uint16_t* mCodes16 = nullptr;
+  const std::uint8_t* mCodes8 = nullptr;
 };
 
 using ReliefTracerf = ReliefTracer<float>;

@@ -99,18 +99,13 @@ class CpuBackend final : public render::Backend {
   /// Builds the tracers (and their empty-space pyramids) for these options; a no-op when the
   /// scene and options are unchanged since the last call. render() calls it.
   void buildTracers(const trace::TraceOptions& options) {
-    if (mTraceOptions && sameOptions(*mTraceOptions, options)) return;
+    if (mTraceOptions && *mTraceOptions == options) return;
     mTracers.clear();
     for (const auto& m : mScene.models) mTracers.push_back(std::make_unique<Tracer>(*m, options));
     mTraceOptions = options;
   }
 
  private:
-  static bool sameOptions(const trace::TraceOptions& a, const trace::TraceOptions& b) {
-    return a.minLinearSteps == b.minLinearSteps && a.maxLinearSteps == b.maxLinearSteps &&
-           a.binarySteps == b.binarySteps && a.skipEmptySpace == b.skipEmptySpace;
-  }
-
   /// A secondary ray starts this far off the surface (world units): two sample spacings of the
   /// model it left, past the reach of its own reconstruction error.
   float surfaceOffset(int model) const {

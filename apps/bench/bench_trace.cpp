@@ -1,0 +1,343 @@
+// SPDX-License-Identifier: MIT
+/// @file bench_trace.cpp
+/// Benchmark: ray casting of relief models, run time against error. For each mesh it sweeps the
+/// grid size N, the texels T, the linear and binary steps and empty-space skipping; for each point
+/// it measures coherent primary rays and incoherent secondary rays (Mrays/s, same rays and threads
+/// for everyone), the depth error against Embree on the original mesh (median and 95th percentile,
+/// in sample spacings and as a fraction of the diagonal), hit/miss disagreement and the bytes of the
+/// representation. In the same run: Embree's rtcIntersect1 on the original mesh, and OpenVDB's
+/// LevelSetRayIntersector on meshToLevelSet grids with the voxel size matched to our error and,
+/// separately, to our memory. Writes trace.csv and a plot of the Pareto front (trace_pareto.png).
+///
+///   bench_trace [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 512]
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <cellrelief/core/parallel.h>
+#include <cellrelief/embree/embree_scene.h>
+#include <cellrelief/io/mesh_io.h>
+#include <cellrelief/metrics/ray_comparison.h>
+#include <cellrelief/relief/convert.h>
+#include <cellrelief/render/camera.h>
+#include <cellrelief/trace/relief_tracer.h>
+#include <openvdb/tools/RayIntersector.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include "../common/plot.h"
+#include "bench_common.h"
+
+using namespace cellrelief;
+
+namespace {
+
+/// One batch of rays and what each method answered (t, or infinity).
+struct RaySet {
+  std::vector<Rayf> rays;
+  std::vector<float> truth;  ///< Embree's t on the original mesh
+};
+
+/// Coherent primary rays: one per pixel of a framing camera, row by row.
+RaySet primaryRays(const Aabbd& bounds, int size) {
+  RaySet set;
+  const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * bounds.diagonal(), 35, 20);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const Rayd r = camera.primaryRay(x, y, size, size);
+      set.rays.emplace_back(Vec3f(r.origin), Vec3f(r.direction));
+    }
+  return set;
+}
+
+/// Incoherent secondary rays: from points just off the surface (Embree's primary hits, pushed
+/// out along the normal by `offset`), in uniformly random directions of the outer hemisphere,
+/// shuffled: the shadow and reflection rays of a path tracer.
+RaySet secondaryRays(const embree::EmbreeScene& scene, const RaySet& primary, float offset) {
+  RaySet set;
+  std::mt19937 random(12345);
+  std::normal_distribution<float> gauss;
+  for (std::size_t i = 0; i < primary.rays.size(); ++i) {
+    const Hitf hit = scene.intersect(primary.rays[i]);
+    if (!hit.valid()) continue;
+    Vec3f n = scene.normal(hit);
+    if (glm::dot(n, primary.rays[i].direction) > 0) n = -n;
+    Vec3f d(gauss(random), gauss(random), gauss(random));
+    d = glm::normalize(d);
+    if (glm::dot(d, n) < 0) d = -d;
+    set.rays.emplace_back(primary.rays[i].at(hit.t) + offset * n, d);
+  }
+  std::shuffle(set.rays.begin(), set.rays.end(), random);
+  return set;
+}
+
+/// Runs `trace(ray) -> t` over every ray in parallel; returns the best of `repeats` wall times.
+template <class Trace>
+double traceAll(const std::vector<Rayf>& rays, std::vector<float>& t, int repeats, Trace&& trace) {
+  t.assign(rays.size(), 0);
+  double best = INFINITY;
+  for (int r = 0; r < repeats; ++r) {
+    best = std::min(best, bench::medianSeconds(1, [&] {
+      parallelForRange(0, rays.size(), [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) t[i] = trace(rays[i]);
+      }, 1024);
+    }));
+  }
+  return best;
+}
+
+struct Accuracy {
+  double medianError = 0, p95Error = 0;  ///< world units
+  std::size_t disagreements = 0;
+};
+
+Accuracy accuracy(const std::vector<float>& truth, const std::vector<float>& t) {
+  Accuracy a;
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const bool h0 = std::isfinite(truth[i]), h1 = std::isfinite(t[i]);
+    if (h0 != h1)
+      ++a.disagreements;
+    else if (h0)
+      errors.push_back(std::abs(double(truth[i]) - double(t[i])));
+  }
+  const metrics::Distribution d = metrics::distributionOf(std::move(errors));
+  a.medianError = d.median;
+  a.p95Error = d.p95;
+  return a;
+}
+
+/// OpenVDB's level-set ray intersector, one copy per thread (it holds a value accessor).
+struct LevelSetTracer {
+  using Intersector = openvdb::tools::LevelSetRayIntersector<openvdb::FloatGrid>;
+  openvdb::FloatGrid::Ptr grid;
+  std::unique_ptr<tbb::enumerable_thread_specific<Intersector>> intersectors;
+
+  explicit LevelSetTracer(openvdb::FloatGrid::Ptr g) : grid(std::move(g)) {
+    intersectors = std::make_unique<tbb::enumerable_thread_specific<Intersector>>(Intersector(*grid));
+  }
+  float operator()(const Rayf& ray) const {
+    Intersector& is = intersectors->local();
+    const openvdb::math::Ray<double> r(openvdb::Vec3d(ray.origin.x, ray.origin.y, ray.origin.z),
+                                       openvdb::Vec3d(ray.direction.x, ray.direction.y, ray.direction.z));
+    openvdb::Vec3d world;
+    // intersectsWS(ray, time) reads the time before the search in OpenVDB 10: use the position.
+    if (!is.intersectsWS(r, world)) return INFINITY;
+    return float((world - r.eye()).length());
+  }
+};
+
+struct SweepPoint {
+  int n = 0, texels = 0, minLinear = 4, maxLinear = 64, binary = 8;
+  bool skip = true;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Relief ray casting: run time against error; Embree and OpenVDB peers", "bench_trace"};
+  bench::BenchOptions options;
+  options.threads = 2;
+  int size = 512;
+  options.addTo(app);
+  app.add_option("--size", size, "Primary rays: size x size pixels")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const ThreadLimit limit{std::size_t(options.threads)};
+  const bool quick = options.quick;
+  if (quick) size = std::min(size, 128);
+  const int repeats = quick ? 1 : 3;
+  openvdb::initialize();
+
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  try {
+    if (quick) {
+      meshes.emplace_back("fertility", io::readMesh(options.data + "/meshes/small/fertility_9k__libigl-tutorial-data.off"));
+    } else {
+      TriangleMesh igea = io::readMesh(options.data + "/meshes/large/igea__common-3d-test-models.ply");
+      TriangleMesh igea1M = bench::loopSubdivide(igea);
+      meshes.emplace_back("igea", std::move(igea));
+      meshes.emplace_back("igea-loop1", std::move(igea1M));
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "bench_trace: %s\n", e.what());
+    return 1;
+  }
+
+  bench::CsvWriter csv(std::filesystem::path(options.out) / "trace.csv",
+                       "mesh,method,N,T,min_linear,max_linear,binary,skip,bytes,primary_mrays,"
+                       "secondary_mrays,median_error_texels,p95_error_texels,median_error_diag,"
+                       "p95_error_diag,disagreements_per_million,secondary_disagreements_per_million");
+  std::vector<app::PlotSeries> plotSeries;
+  std::printf("threads: %d; primary rays %dx%d from a framing camera; secondary rays: random outer "
+              "hemisphere directions from points on the surface, shuffled\n", options.threads, size, size);
+  for (const auto& [name, mesh] : meshes) {
+    const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
+    const double diagonal = bounds.diagonal();
+    const embree::EmbreeScene embree(mesh);
+    RaySet primary = primaryRays(bounds, size);
+    std::vector<float> t;
+    const double embreePrimary = traceAll(primary.rays, primary.truth, repeats,
+                                          [&](const Rayf& r) { return embree.intersect(r).t; });
+    // Secondary rays start 0.1% of the diagonal off the surface, past every representation's error.
+    RaySet secondary = secondaryRays(embree, primary, float(1e-3 * diagonal));
+    const double embreeSecondary = traceAll(secondary.rays, secondary.truth, repeats,
+                                            [&](const Rayf& r) { return embree.intersect(r).t; });
+    const double primaryCount = double(primary.rays.size()), secondaryCount = double(secondary.rays.size());
+    const double embreeMraysPrimary = primaryCount / embreePrimary * 1e-6;
+    const double embreeMraysSecondary = secondaryCount / embreeSecondary * 1e-6;
+    std::printf("\n%s: %zu triangles; Embree rtcIntersect1: %.2f Mrays/s primary, %.2f secondary; "
+                "mesh + BVH %s bytes\n", name.c_str(), mesh.triangleCount(), embreeMraysPrimary,
+                embreeMraysSecondary, std::to_string(embree.byteSize()).c_str());
+    csv.row(name, "embree", 0, 0, 0, 0, 0, 0, embree.byteSize(), embreeMraysPrimary,
+            embreeMraysSecondary, 0, 0, 0, 0, 0, 0);
+    std::printf("%5s %4s %8s %3s %4s %10s %9s %9s %8s %8s %10s %8s %8s | %7s %7s %7s\n", "N", "T",
+                "linear", "bin", "skip", "bytes", "prim Mr/s", "sec Mr/s", "med tx", "p95 tx",
+                "med diag", "dis/M", "sec dis/M", "vs Emb", "sec vs", "memory");
+
+    // The sweep: grids around the automatic choice, texels, search parameters, skipping.
+    const relief::ReliefModel automatic = relief::convert(mesh);
+    std::vector<SweepPoint> sweep;
+    const std::vector<int> grids = quick ? std::vector<int>{automatic.gridSize}
+                                         : std::vector<int>{automatic.gridSize, 8, 16, 32};
+    const std::vector<int> texelChoices = quick ? std::vector<int>{17} : std::vector<int>{17, 33, 65};
+    for (int n : grids)
+      for (int texels : texelChoices) {
+        sweep.push_back({n, texels, 4, 64, 8, true});
+        sweep.push_back({n, texels, 4, 64, 8, false});
+        if (!quick) {
+          sweep.push_back({n, texels, 2, 32, 6, true});
+          sweep.push_back({n, texels, 2, 32, 6, false});
+        }
+      }
+    std::vector<double> frontError, frontSpeed, allError, allSpeed;
+    double bestMatchedError = INFINITY, ourBytesAtBest = 0, ourSpeedAtBest = 0;
+    std::shared_ptr<relief::ReliefModel> model;
+    int modelN = -1, modelT = -1;
+    for (const SweepPoint& p : sweep) {
+      if (p.n != modelN || p.texels != modelT) {
+        model = std::make_shared<relief::ReliefModel>(
+            relief::convert(mesh, {.gridSize = p.n, .texels = p.texels}));
+        modelN = p.n;
+        modelT = p.texels;
+      }
+      const trace::TraceOptions to{.minLinearSteps = p.minLinear, .maxLinearSteps = p.maxLinear,
+                                   .binarySteps = p.binary, .skipEmptySpace = p.skip};
+      const trace::ReliefTracerf tracer(*model, to);
+      auto traceOne = [&](const Rayf& r) { return tracer.intersect(r).t; };
+      const double s1 = traceAll(primary.rays, t, repeats, traceOne);
+      const Accuracy a = accuracy(primary.truth, t);
+      const double s2 = traceAll(secondary.rays, t, repeats, traceOne);
+      const Accuracy a2 = accuracy(secondary.truth, t);
+      const double spacing = model->cellSizeWS / (model->texels - 1);
+      const std::size_t bytes = model->byteSize() + tracer.accelerationBytes();
+      const double mr1 = primaryCount / s1 * 1e-6, mr2 = secondaryCount / s2 * 1e-6;
+      char linear[16];
+      std::snprintf(linear, sizeof linear, "%d-%d", p.minLinear, p.maxLinear);
+      std::printf("%5d %4d %8s %3d %4s %10zu %9.2f %9.2f %8.3f %8.3f %10.2e %8.0f %8.0f | %6.2fx %6.2fx %6.1fx\n",
+                  model->gridSize, model->texels, linear, p.binary, p.skip ? "on" : "off", bytes, mr1, mr2,
+                  a.medianError / spacing, a.p95Error / spacing, a.medianError / diagonal,
+                  1e6 * a.disagreements / primaryCount, 1e6 * a2.disagreements / secondaryCount,
+                  mr1 / embreeMraysPrimary, mr2 / embreeMraysSecondary,
+                  double(embree.byteSize()) / double(bytes));
+      csv.row(name, "relief", model->gridSize, model->texels, p.minLinear, p.maxLinear, p.binary,
+              int(p.skip), bytes, mr1, mr2, a.medianError / spacing, a.p95Error / spacing,
+              a.medianError / diagonal, a.p95Error / diagonal, 1e6 * a.disagreements / primaryCount,
+              1e6 * a2.disagreements / secondaryCount);
+      allError.push_back(a.medianError / diagonal);
+      allSpeed.push_back(mr1);
+      // The fastest point within a texel of median error is our headline for the matched peers.
+      if (a.medianError <= spacing && mr1 > ourSpeedAtBest) {
+        ourSpeedAtBest = mr1;
+        bestMatchedError = a.medianError;
+        ourBytesAtBest = double(bytes);
+      }
+    }
+    // The Pareto front: no other point is both faster and more accurate.
+    for (std::size_t i = 0; i < allError.size(); ++i) {
+      bool dominated = false;
+      for (std::size_t j = 0; j < allError.size() && !dominated; ++j)
+        dominated = j != i && allError[j] <= allError[i] && allSpeed[j] >= allSpeed[i] &&
+                    (allError[j] < allError[i] || allSpeed[j] > allSpeed[i]);
+      if (!dominated) frontError.push_back(allError[i]), frontSpeed.push_back(allSpeed[i]);
+    }
+    std::vector<std::size_t> order(frontError.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return frontError[a] < frontError[b]; });
+    app::PlotSeries all{name + " sweep", allError, allSpeed, app::Plot::palette(plotSeries.size() / 3 * 3), false};
+    app::PlotSeries front{name + " pareto front", {}, {}, all.color, true};
+    for (std::size_t i : order) front.x.push_back(frontError[i]), front.y.push_back(frontSpeed[i]);
+
+    // OpenVDB level sets: voxel = diagonal / 2^k. Matched to our error: the coarsest whose median
+    // depth error is at most ours; matched to our memory: the one closest to our bytes.
+    struct LevelSetRun {
+      double voxel, mrays, median;
+      std::size_t bytes, disagreements;
+    };
+    std::vector<LevelSetRun> runs;
+    for (int k = 6; k <= (quick ? 8 : 11); ++k) {
+      const double voxel = diagonal / double(1 << k);
+      LevelSetTracer ls(bench::levelSet(mesh, voxel));
+      const double s = traceAll(primary.rays, t, 1, ls);
+      const Accuracy a = accuracy(primary.truth, t);
+      runs.push_back({voxel, primaryCount / s * 1e-6, a.medianError, ls.grid->memUsage(), a.disagreements});
+      std::printf("  OpenVDB level set, voxel diagonal/%d: %.2f Mrays/s, median error %.2e of the "
+                  "diagonal, %.0f disagreements per million, %zu bytes\n",
+                  1 << k, runs.back().mrays, a.medianError / diagonal,
+                  1e6 * double(a.disagreements) / primaryCount, runs.back().bytes);
+      csv.row(name, "openvdb", 1 << k, 0, 0, 0, 0, 0, runs.back().bytes, runs.back().mrays, 0,
+              0, 0, a.medianError / diagonal, a.p95Error / diagonal,
+              1e6 * double(a.disagreements) / primaryCount, 0);
+      if (std::isfinite(bestMatchedError) && a.medianError <= bestMatchedError) break;
+    }
+    app::PlotSeries vdb{name + " OpenVDB level sets", {}, {}, app::Plot::palette(plotSeries.size() / 3 * 3 + 1), true};
+    for (const auto& r : runs) vdb.x.push_back(r.median / diagonal), vdb.y.push_back(r.mrays);
+    app::PlotSeries emb{name + " Embree (exact)", {diagonal * 1e-7 / diagonal}, {embreeMraysPrimary},
+                        app::Plot::palette(plotSeries.size() / 3 * 3 + 2), false};
+    plotSeries.push_back(std::move(all));
+    plotSeries.push_back(std::move(front));
+    plotSeries.push_back(std::move(vdb));
+    plotSeries.push_back(std::move(emb));
+    if (std::isfinite(bestMatchedError)) {
+      const LevelSetRun* byError = nullptr;
+      for (const auto& r : runs)
+        if (r.median <= bestMatchedError) {
+          byError = &r;
+          break;
+        }
+      const LevelSetRun* byMemory = &runs.front();
+      for (const auto& r : runs)
+        if (std::abs(std::log(double(r.bytes) / ourBytesAtBest)) <
+            std::abs(std::log(double(byMemory->bytes) / ourBytesAtBest)))
+          byMemory = &r;
+      std::printf("  ours at <= 1 texel median error: %.2f Mrays/s (%.2fx Embree), %s bytes (Embree's "
+                  "mesh + BVH / ours = %.1fx)\n",
+                  ourSpeedAtBest, ourSpeedAtBest / embreeMraysPrimary,
+                  std::to_string(std::size_t(ourBytesAtBest)).c_str(), double(embree.byteSize()) / ourBytesAtBest);
+      if (byError)
+        std::printf("  OpenVDB at matched error (voxel diagonal/%.0f): %.2f Mrays/s: ours is %.1fx faster, "
+                    "%.1fx smaller\n", diagonal / byError->voxel, byError->mrays, ourSpeedAtBest / byError->mrays,
+                    double(byError->bytes) / ourBytesAtBest);
+      else
+        std::printf("  OpenVDB at matched error: no voxel size down to diagonal/%.0f reached our error\n",
+                    diagonal / runs.back().voxel);
+      std::printf("  OpenVDB at matched memory (voxel diagonal/%.0f, %zu bytes): %.2f Mrays/s, median "
+                  "error %.2e of the diagonal (ours %.2e)\n", diagonal / byMemory->voxel, byMemory->bytes,
+                  byMemory->mrays, byMemory->median / diagonal, bestMatchedError / diagonal);
+    }
+  }
+  app::Plot plot;
+  plot.title = "Relief ray casting: primary rays, " + std::to_string(options.threads) + " threads";
+  plot.xLabel = "median depth error / diagonal";
+  plot.yLabel = "Mrays/s";
+  plot.logX = true;
+  plot.logY = true;
+  plot.series = std::move(plotSeries);
+  const std::filesystem::path png = std::filesystem::path(options.out) / "trace_pareto.png";
+  plot.write(png);
+  std::printf("\nvs Emb = our rays per second / Embree's on the same rays and threads; memory = Embree's "
+              "mesh + BVH bytes / ours (model + pyramid); med tx = median depth error in sample spacings "
+              "(texels); dis/M = hit/miss disagreements with Embree per million rays. Embree is drawn at "
+              "1e-7 (exact).\nwrote %s and %s\n", csv.path().c_str(), png.c_str());
+  return 0;
+}
