@@ -31,6 +31,7 @@ using namespace indirection;
 
 struct IndirectionCli {
   std::string heightmap, output, optimizer = "springs", wrap = "clamp", springForce = "in-plane";
+  std::string prewarpIn, prewarpOut;
   int grid = 256, bits = 8, size = 0, threads = 0;
   float heightScale = 0.1f;
 };
@@ -114,8 +115,16 @@ int runIndirect(const IndirectionCli& o) {
   const SpringForce force = o.springForce == "tangent" ? SpringForce::Tangent : SpringForce::InPlane;
   if (o.springForce != "tangent" && o.springForce != "in-plane")
     throw Error(ErrorKind::InvalidArgument, "--spring-force takes in-plane or tangent");
+  if (o.prewarpIn.empty() != o.prewarpOut.empty())
+    throw Error(ErrorKind::InvalidArgument, "--prewarp and --prewarp-out go together");
   const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
   const ReliefMap relief = loadRelief(o.heightmap, o.heightScale, parseWrap(o.wrap));
+  io::ImageFile texture;
+  if (!o.prewarpIn.empty()) {  // read before the long solve: a bad texture fails at once
+    texture = io::readImage(o.prewarpIn);
+    if (texture.bitDepth() != 8)
+      throw Error(ErrorKind::Unsupported, o.prewarpIn, "pre-warp takes 8-bit textures");
+  }
   std::printf("height map    %s: %dx%d, height scale %g, surface area %.4f\n", o.heightmap.c_str(),
               relief.width(), relief.height(), relief.heightScale(), relief.surfaceArea());
   int iterations = 0;
@@ -149,6 +158,12 @@ int runIndirect(const IndirectionCli& o) {
        << ",\n  \"scale\": [" << scale.x << ", " << scale.y << "],\n  \"bias\": [" << bias.x << ", "
        << bias.y << "]\n}\n";
   writeText(o.output + ".json", json.str());
+  if (!o.prewarpIn.empty()) {
+    io::writePng(prewarp(std::get<Image<std::uint8_t>>(texture.pixels), grid, parseWrap(o.wrap)),
+                 o.prewarpOut);
+    std::printf("pre-warped    %s -> %s (fetch it at (u, v) + I(u, v))\n", o.prewarpIn.c_str(),
+                o.prewarpOut.c_str());
+  }
   std::printf("wrote         %s (%dx%d, %d-bit, R = I_u, G = I_v) and %s.json (scale, bias)\n",
               o.output.c_str(), w, h, o.bits, o.output.c_str());
   return 0;
@@ -198,7 +213,7 @@ int runCompare(CompareCli o) {
     o.heightmaps = {(data / "sponza/lion_bump.png").string(),
                     (data / "sponza/spnza_bricks_a_bump.png").string()};
   }
-  if (o.quick) o.grid = std::min(o.grid, 64);
+  if (o.quick) o.grid = std::min(o.grid, 32);
   checkGridSize(o.grid);
   std::filesystem::create_directories(o.out);
   const ThreadLimit limit(std::size_t(std::max(0, o.threads)));
@@ -222,7 +237,7 @@ int runCompare(CompareCli o) {
          "flipped_cells\n";
   for (const std::string& path : o.heightmaps) {
     ReliefMap relief = loadRelief(path, o.heightScale, Wrap::Clamp);
-    if (o.quick) relief = downsample(relief, 256);
+    if (o.quick) relief = downsample(relief, 128);
     const std::string name = std::filesystem::path(path).stem().string();
     const Distortion identity = measureDistortion(Grid(o.grid), relief);
     std::printf("%s: %dx%d, height scale %g, g = %d, identity L2 %.4f, angle %.4f, area %.4f\n",
@@ -327,6 +342,8 @@ Command addIndirectCommand(CLI::App& app) {
                   "in-plane (the paper) or tangent (the spring energy's gradient)")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)");
+  cmd->add_option("--prewarp", o->prewarpIn, "a structured texture to pre-warp by M (section 5.2)");
+  cmd->add_option("--prewarp-out", o->prewarpOut, "where the pre-warped texture goes (PNG)");
   return {cmd, [o] { return runIndirect(*o); }};
 }
 
@@ -343,7 +360,7 @@ Command addCompareOptimizersCommand(CLI::App& app) {
                   "comma-separated: springs, springs-chord, ceres (L-BFGS), ceres-lm")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
-  cmd->add_flag("--quick", o->quick, "small run (maps at 256, g <= 64) for smoke tests");
+  cmd->add_flag("--quick", o->quick, "small run (maps at 128, g <= 32) for smoke tests");
   cmd->add_flag("!--no-pictures", o->pictures, "skip the parallax pictures");
   return {cmd, [o] { return runCompare(*o); }};
 }

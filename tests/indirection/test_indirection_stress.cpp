@@ -132,6 +132,18 @@ TEST(IndirectionCli, BadInputExitsOneAndLeavesNoOutput) {
   EXPECT_EQ(good.status, 0) << good.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "out.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "out.png.json"));
+  // Pre-warp a texture through the same run; a missing texture fails before anything is written.
+  const Result warped = run("indirect " + (dir / "ok.png").string() + " --grid 16 -o " +
+                                (dir / "o2.png").string() + " --prewarp " + (dir / "ok.png").string() +
+                                " --prewarp-out " + (dir / "warped.png").string(), dir);
+  EXPECT_EQ(warped.status, 0) << warped.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "warped.png"));
+  const Result noTexture = run("indirect " + (dir / "ok.png").string() + " -o " +
+                                   (dir / "o3.png").string() + " --prewarp " +
+                                   (dir / "absent.png").string() + " --prewarp-out " +
+                                   (dir / "w3.png").string(), dir);
+  EXPECT_EQ(noTexture.status, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "o3.png"));
 }
 
 }  // namespace
