@@ -3,7 +3,8 @@
 /// `cellrelief demo [mesh]`: the embedded default job. Without a mesh it generates the built-in
 /// model (a torus displaced by ridged noise, 327,680 triangles); with a mesh it takes the user's.
 /// It writes the mesh as PLY with a picture, reports on it, converts it into a relief model (.crm)
-/// and writes a picture of the model's reconstruction. Rendering arrives with the trace module.
+/// and writes a picture of the model's reconstruction and one of the model itself, ray cast on the
+/// CPU reference backend.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -68,7 +69,8 @@ int runDemo(const DemoOptions& o) {
   {
     const auto start = std::chrono::steady_clock::now();
     relief::ConvertReport report;
-    const relief::ReliefModel relief = relief::convert(mesh, {}, &report);
+    const auto reliefPtr = std::make_shared<const relief::ReliefModel>(relief::convert(mesh, {}, &report));
+    const relief::ReliefModel& relief = *reliefPtr;
     const std::filesystem::path crm = outDir / (model.stem().string() + ".crm");
     relief::writeRelief(relief, crm);
     const TriangleMesh rebuilt = relief::reconstruct(relief);
@@ -85,6 +87,7 @@ int runDemo(const DemoOptions& o) {
     writePreview(rebuilt, picture);
     std::printf("demo: wrote %s and %s (the model rebuilt from its relief maps)\n", crm.c_str(),
                 picture.c_str());
+    renderModelPicture(reliefPtr, outDir / (model.stem().string() + "_render.png"));
   }
   std::printf("\ndemo: results are in %s\n", outDir.c_str());
   return 0;

@@ -160,6 +160,22 @@ int runRender(const RenderCli& o) {
 
 }  // namespace
 
+void renderModelPicture(std::shared_ptr<const relief::ReliefModel> model,
+                        const std::filesystem::path& png, int size) {
+  cpu::CpuBackend backend;
+  const render::Scene scene = render::Scene::of(std::move(model));
+  backend.upload(scene);
+  render::RenderOptions options;
+  options.width = options.height = size;
+  options.channels = render::kColor;
+  const auto t0 = std::chrono::steady_clock::now();
+  const render::Frame frame = backend.renderFrame(parseCamera("", scene.boundsWS()), options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  io::writePng(frame.color, png);
+  std::printf("demo: ray cast the relief model (%dx%d, shadows, CPU backend) in %.2f s: wrote %s\n",
+              size, size, seconds, png.c_str());
+}
+
 Command addRenderCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
   auto o = std::make_shared<RenderCli>();

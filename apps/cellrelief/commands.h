@@ -9,7 +9,14 @@
 #include <string>
 #include <utility>
 
+#include <filesystem>
+#include <memory>
+
 #include <CLI/CLI.hpp>
+
+namespace cellrelief::relief {
+struct ReliefModel;
+}
 
 namespace cellrelief::app {
 
@@ -25,6 +32,12 @@ Command addCellsCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addReconstructCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
+Command addBenchCommand(CLI::App& app);
+
+/// Renders a relief model with the default camera, light and shadows on the CPU reference backend
+/// into a size x size PNG; prints one line with the time.
+void renderModelPicture(std::shared_ptr<const relief::ReliefModel> model,
+                        const std::filesystem::path& png, int size = 800);
 Command addIndirectCommand(CLI::App& app);
 Command addCompareOptimizersCommand(CLI::App& app);
 
