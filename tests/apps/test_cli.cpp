@@ -152,5 +152,32 @@ TEST(Cli, ConvertAndReconstruct) {
   for (const char* name : {"x.ply", "y.ply", "z.crm", "w.crm"}) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
 }
 
+TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  test::TempDir dir;
+  const Result ok = run("render " + spot.string() + " -o " + (dir / "c.png").string() + " --size 96x64 --depth " +
+                        (dir / "d.png").string() + " --normals " + (dir / "n.png").string() +
+                        " --camera 200,-10,35 --backend cpu");
+  ASSERT_EQ(ok.status, 0) << ok.output;
+  EXPECT_NE(ok.output.find("rendered      96x64"), std::string::npos) << ok.output;
+  for (const char* name : {"c.png", "d.png", "n.png"}) EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+  const std::pair<std::string, std::string> cases[] = {
+      {"render absent.crm -o x.png", "no such file"},
+      {"render " + spot.string() + " -o x.png --size 12by3", "--size '12by3'"},
+      {"render " + spot.string() + " -o x.png --size 0x10", "expected WxH"},
+      {"render " + spot.string() + " -o x.png --camera 1,2,3,4", "--camera '1,2,3,4'"},
+      {"render " + spot.string() + " -o x.png --camera 1,x", "'x' is not a number"},
+      {"render " + spot.string() + " -o x.png --backend metal", "valid: auto, cpu, opengl, vulkan"},
+      {"render " + spot.string() + " -o x.png --backend vulkan", "backend 'vulkan'"},
+      {"bench nosuch", "no such benchmark"}};
+  for (const auto& [args, words] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists("x.png"));
+}
+
 }  // namespace
 }  // namespace cellrelief
