@@ -22,7 +22,7 @@ struct DirectionalLight {
 
 struct Scene {
   std::vector<std::shared_ptr<const relief::ReliefModel>> models;
-  std::vector<DirectionalLight> lights{DirectionalLight{}};
+  std::vector<DirectionalLight> lights = std::vector<DirectionalLight>(1);  ///< one default light
   Vec3f ambient{0.18f};
   Vec4f background{1.0f, 1.0f, 1.0f, 0.0f};  ///< RGBA of pixels that hit nothing
 
