@@ -66,7 +66,9 @@ struct SpringOptions {
   float integrationStepTexels = 0.25f;  ///< step of the surface-length integral, in texels
   int minSteps = 2, maxSteps = 10;      ///< clamp of the number of integration steps
   float maxStepFraction = 1.0f / 3.0f;  ///< of the smallest incident triangle height
-  double tolerance = 1e-3;        ///< relative change of the total force that ends a level
+  float relaxation = 1.0f;        ///< over-relaxation factor of the step F/K (1: the plain step)
+  double tolerance = 1e-3;        ///< relative change of the total force that ends the last level
+  double coarseTolerance = 1e-2;  ///< the same for the coarse levels (they only initialize)
   int patience = 3;               ///< iterations in a row below the tolerance
   int maxIterations = 2000;       ///< per level
   int reportEvery = 10;           ///< iterations between progress callbacks
@@ -150,7 +152,7 @@ class SpringLevel {
         }
     });
     // Pass 3: gather per vertex, project on the boundary, step, clamp.
-    const float frac = mO.maxStepFraction;
+    const float frac = mO.maxStepFraction, omega = mO.relaxation;
     tbb::parallel_for(
         tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
           for (int j = r.begin(); j != r.end(); ++j) {
@@ -176,7 +178,7 @@ class SpringLevel {
               if (j == 0 || j == g) fy = 0;
               const float f = std::sqrt(fx * fx + fy * fy);
               sum += f;
-              float dx = kk > 0 ? fx / kk : 0, dy = kk > 0 ? fy / kk : 0;
+              float dx = kk > 0 ? omega * fx / kk : 0, dy = kk > 0 ? omega * fy / kk : 0;
               float limit = HUGE_VALF;
               for (int cj = j - 1; cj <= j; ++cj)
                 for (int ci = i - 1; ci <= i; ++ci)
@@ -294,7 +296,8 @@ class SpringLevel {
     const float chord = std::sqrt(l2sq + (zb - za) * (zb - za));
     const float e = length / rest;
     const int p = mO.forceOrder;
-    const float ep1 = p == 1 ? 1.0f : std::pow(e, float(p - 1));
+    float ep1 = 1.0f;  // e^(p-1) by multiplication: std::pow was a third of the iteration time
+    for (int k = 1; k < p; ++k) ep1 *= e;
     const float f = mO.stiffness * (ep1 * e - 1.0f) / float(p);
     const float scale = chord > 0 ? f / chord : 0.0f, dz = zb - za;
     // The 3D force on a is scale (du, dv, dz); on b its opposite.
@@ -341,7 +344,8 @@ inline void checkSpringOptions(const SpringOptions& o) {
   if (o.minSteps < 1 || o.maxSteps < o.minSteps) bad("springs: need 1 <= minSteps <= maxSteps");
   if (!(o.maxStepFraction > 0) || o.maxStepFraction > 0.5f)
     bad("springs: maxStepFraction must be in (0, 0.5]");
-  if (!(o.tolerance > 0)) bad("springs: tolerance must be > 0");
+  if (!(o.tolerance > 0) || !(o.coarseTolerance > 0)) bad("springs: tolerance must be > 0");
+  if (!(o.relaxation > 0) || o.relaxation >= 2) bad("springs: relaxation must be in (0, 2)");
   if (o.maxIterations < 1 || o.patience < 1 || o.reportEvery < 1)
     bad("springs: iteration counts must be >= 1");
 }
@@ -376,7 +380,8 @@ inline Grid relaxSprings(const ReliefMap& relief, const SpringOptions& options =
         ++it;
         break;
       }
-      calm = previous >= 0 && std::abs(force - previous) < options.tolerance * force ? calm + 1 : 0;
+      const double tolerance = last ? options.tolerance : options.coarseTolerance;
+      calm = previous >= 0 && std::abs(force - previous) < tolerance * force ? calm + 1 : 0;
       previous = force;
       if (calm >= options.patience) {
         converged = true;
