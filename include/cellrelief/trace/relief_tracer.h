@@ -132,6 +132,12 @@ class ReliefTracer {
   /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
   /// be normalized; t is in units of it.
   Hit intersect(const Ray<T>& ray) const {
+    // A ray without a finite origin and a finite, non-zero direction, or with an empty or NaN
+    // interval, meets nothing (and must not reach the index arithmetic below).
+    const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
+                        std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
+                        std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
+    if (!finite || ray.direction == Vec3<T>(0) || !(ray.tmin <= ray.tmax)) return {};
     const RayInterval<T> span = cellrelief::intersect(ray, mBounds);
     if (!span.hit) return {};
     // Unregistered: a registered accessor takes a lock in the tree on creation, once per ray.
@@ -222,8 +228,9 @@ class ReliefTracer {
   /// samples is empty (the rim of the surface's projection: the field changes side there).
   std::optional<T> stored(int layer, const Vec2<T>& uv) const {
     const int texels = mModel.texels;
-    const T x = glm::clamp(uv.x, T(0), T(1)) * T(texels - 1);
-    const T y = glm::clamp(uv.y, T(0), T(1)) * T(texels - 1);
+    // Written so that NaN lands on 0: an index from NaN would be undefined.
+    const T x = (uv.x > T(0) ? std::min(uv.x, T(1)) : T(0)) * T(texels - 1);
+    const T y = (uv.y > T(0) ? std::min(uv.y, T(1)) : T(0)) * T(texels - 1);
     const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
     const T fx = x - T(a0), fy = y - T(b0);
     const std::uint32_t empty = mModel.emptyCode();
