@@ -312,7 +312,7 @@ int main(int argc, char** argv) {
     if (std::isfinite(bestMatchedError)) {
       const LevelSetRun* byError = nullptr;
       for (const auto& r : runs)
-        if (r.median <= bestMatchedError) {
+        if (r.median > 0 && r.median <= bestMatchedError) {
           byError = &r;
           break;
         }

@@ -69,6 +69,9 @@ render::Camera parseCamera(const std::string& spec, const Aabbd& bounds) {
   const double radius = 0.5 * bounds.diagonal();
   if (spec.empty()) return render::Camera::framing(centre, radius);
   const std::vector<double> v = parseNumbers(spec, "--camera");
+  if ((v.size() == 3 || v.size() == 7) && !(v.back() > 0 && v.back() < 180))
+    throw Error(ErrorKind::InvalidArgument,
+                "--camera '" + spec + "': the field of view must lie between 0 and 180 degrees");
   if (v.size() == 2 || v.size() == 3)
     return render::Camera::framing(centre, radius, v[0], v[1], v.size() == 3 ? v[2] : 40.0);
   if (v.size() == 6 || v.size() == 7) {

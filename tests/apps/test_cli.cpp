@@ -168,6 +168,7 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
       {"render " + spot.string() + " -o x.png --size 0x10", "expected WxH"},
       {"render " + spot.string() + " -o x.png --camera 1,2,3,4", "--camera '1,2,3,4'"},
       {"render " + spot.string() + " -o x.png --camera 1,x", "'x' is not a number"},
+      {"render " + spot.string() + " -o x.png --camera 35,20,0", "field of view"},
       {"render " + spot.string() + " -o x.png --backend metal", "valid: auto, cpu, opengl, vulkan"},
       {"render " + spot.string() + " -o x.png --backend vulkan", "backend 'vulkan'"},
       {"bench nosuch", "no such benchmark"}};

@@ -7,6 +7,7 @@
 
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/relief/convert.h>
+#include <cellrelief/render/camera.h>
 #include <cellrelief/trace/relief_tracer.h>
 
 namespace cellrelief::trace {
@@ -21,7 +22,14 @@ template <class Tracer>
 void expectOnModelOrMiss(const Tracer& tracer, const typename Tracer::Hit& hit) {
   if (!hit.valid()) return;
   EXPECT_TRUE(std::isfinite(hit.t));
-  EXPECT_TRUE(tracer.boundsWS().contains(Vec3<typename Tracer::Scalar>(hit.position)));
+  // Inside the model's grid, up to the rounding of t in float.
+  using S = typename Tracer::Scalar;
+  Aabb<S> grown = tracer.boundsWS();
+  const S margin = S(1e-5) * grown.diagonal();
+  grown.min -= Vec3<S>(margin);
+  grown.max += Vec3<S>(margin);
+  EXPECT_TRUE(grown.contains(Vec3<S>(hit.position)))
+      << "t " << hit.t << " at " << hit.position.x << " " << hit.position.y << " " << hit.position.z;
 }
 
 TEST(ReliefTracerStress, DegenerateAndNonFiniteRaysMissCleanly) {
@@ -41,6 +49,22 @@ TEST(ReliefTracerStress, DegenerateAndNonFiniteRaysMissCleanly) {
     EXPECT_FALSE(tracer.intersect(rays[1]).valid());
     EXPECT_FALSE(tracer.intersect(rays[5]).valid());
   }
+}
+
+TEST(ReliefTracerStress, DenormalDirectionsAndCameraAlongUpDoNotStall) {
+  const ReliefTracerf tracer(sphereModel());
+  // Origin on a grid plane, a denormal component: its inverse overflows, and must count as zero.
+  const Vec3f o = Vec3f(sphereModel().originWS) + Vec3f(float(sphereModel().cellSizeWS) * 4);
+  const auto hit = tracer.intersect(Rayf(Vec3f(-3, o.y, o.z), Vec3f(1, -1e-40f, 0)));
+  expectOnModelOrMiss(tracer, hit);
+  // A ray whose stored inverse disagrees with its direction is traced by its direction.
+  Rayf stale(Vec3f(0.1f, 0.2f, -3), Vec3f(0, 0, 1));
+  stale.direction = Vec3f(0, 0, -1);  // set directly, without setDirection()
+  EXPECT_FALSE(tracer.intersect(stale).valid());
+  const render::Camera up{Vec3d(0, 10, 0), Vec3d(0), Vec3d(0, 1, 0), 40};
+  const Rayd centre = up.primaryRay(16, 16, 32, 32);
+  EXPECT_TRUE(std::isfinite(centre.direction.x) && std::isfinite(centre.direction.y));
+  EXPECT_TRUE(tracer.intersect(Rayf(Vec3f(centre.origin), Vec3f(centre.direction))).valid());
 }
 
 TEST(ReliefTracerStress, TinyAndHugeDirectionsAndFarOriginsGiveTheSameHits) {

@@ -27,7 +27,11 @@ struct Camera {
   /// The ray through the centre of pixel (x, y) of a width x height image (y down).
   Rayd primaryRay(int x, int y, int width, int height) const {
     const Vec3d forward = glm::normalize(target - eye);
-    const Vec3d right = glm::normalize(glm::cross(forward, up));
+    // Looking along `up` leaves the roll undefined: take another axis rather than NaN rays.
+    Vec3d side = glm::cross(forward, up);
+    if (glm::length(side) < 1e-9 * glm::length(up)) side = glm::cross(forward, Vec3d(0, 0, 1));
+    if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
+    const Vec3d right = glm::normalize(side);
     const Vec3d trueUp = glm::cross(right, forward);
     const double tanHalf = std::tan(0.5 * verticalFovDegrees * M_PI / 180);
     const double aspect = double(width) / double(height);

@@ -102,6 +102,8 @@ class ReliefTracer {
   using Scalar = T;
   using Hit = ReliefHit<T>;
 
+  /// The tracer reads the model in place: it must outlive the tracer (a temporary is refused).
+  ReliefTracer(relief::ReliefModel&&, const TraceOptions& = {}) = delete;
   explicit ReliefTracer(const relief::ReliefModel& model, const TraceOptions& options = {})
       : mModel(model), mOptions(options), mGrid(openvdb::Int32Grid::create(-1)) {
     auto acc = mGrid->getAccessor();
@@ -131,7 +133,10 @@ class ReliefTracer {
 
   /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
   /// be normalized; t is in units of it.
-  Hit intersect(const Ray<T>& ray) const {
+  Hit intersect(const Ray<T>& input) const {
+    // The inverse direction is recomputed: the ray's fields are public and may disagree.
+    Ray<T> ray = input;
+    ray.setDirection(input.direction);
     // A ray without a finite origin and a finite, non-zero direction, or with an empty or NaN
     // interval, meets nothing (and must not reach the index arithmetic below).
     const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
@@ -151,19 +156,22 @@ class ReliefTracer {
     Vec3i step(0);
     Vec3<T> tMax(std::numeric_limits<T>::infinity()), tDelta(std::numeric_limits<T>::infinity());
     for (int a = 0; a < 3; ++a) {
-      const T d = ray.direction[a];
+      // The inverse is computed here, not taken from the ray: a denormal component overflows it
+      // (0 * inf would stall the walk), and such an axis is as good as a zero one.
+      const T d = ray.direction[a], inverse = T(1) / d;
+      if (d == 0 || !std::isfinite(inverse)) continue;
       if (d > 0) {
         step[a] = 1;
-        tMax[a] = ((cell[a] + 1) * h + mOrigin[a] - ray.origin[a]) * ray.invDirection[a];
-        tDelta[a] = h * ray.invDirection[a];
-      } else if (d < 0) {
+        tMax[a] = ((cell[a] + 1) * h + mOrigin[a] - ray.origin[a]) * inverse;
+        tDelta[a] = h * inverse;
+      } else {
         step[a] = -1;
-        tMax[a] = (cell[a] * h + mOrigin[a] - ray.origin[a]) * ray.invDirection[a];
-        tDelta[a] = -h * ray.invDirection[a];
+        tMax[a] = (cell[a] * h + mOrigin[a] - ray.origin[a]) * inverse;
+        tDelta[a] = -h * inverse;
       }
     }
     // The side of the surface the ray is on, carried from cell to cell: outside when it enters
-    // the grid from outside (the grid pads the mesh), unknown when it starts within the grid.
+    // the grid from outside (the grid holds the whole mesh), unknown when it starts within it.
     // White and black cells hold no surface, so they keep the side.
     Side side{span.t0 > ray.tmin ? Side::Outside : Side::Unknown};
     T tCell = tStart;
@@ -173,7 +181,7 @@ class ReliefTracer {
       if (index >= 0) {
         const relief::CellRecord& record = mModel.cells[index];
         const auto proj = record.projection<T>();
-        const CellFrame frame = cellFrame(ray, record, tCell, tExit);
+        const CellFrame frame = cellFrame(ray, record);
         Hit hit = proj.visit([&](const auto& p) {
           return searchCell(p, record, index, ray, frame, tCell, tExit, side);
         });
@@ -211,7 +219,7 @@ class ReliefTracer {
     T exitField = std::numeric_limits<T>::infinity();
   };
 
-  CellFrame cellFrame(const Ray<T>& ray, const relief::CellRecord& r, T, T) const {
+  CellFrame cellFrame(const Ray<T>& ray, const relief::CellRecord& r) const {
     const Vec3<T> cellOrigin = mOrigin + Vec3<T>(r.ijk()) * mCellSize;
     return {(ray.origin - cellOrigin) / mCellSize, ray.direction / mCellSize};
   }
@@ -363,7 +371,11 @@ class ReliefTracer {
       T tMid = d != 0 ? (T(0.5) - o) / d : std::numeric_limits<T>::infinity();
       const bool startsUpper = o + t0 * d >= T(0.5) && !(d < 0 && o + t0 * d == T(0.5));
       const int first = 2 * axis + (startsUpper ? 1 : 0);
-      if (!(tMid > t0 && tMid < t1)) return skipSearchFace(proj, r, index, ray, frame, first, t0, t1, T(0.5));
+      if (!(tMid > t0 && tMid < t1)) {
+        // One half only: decided by the segment's middle, which rounding cannot put on the plane.
+        const int face = 2 * axis + (o + T(0.5) * (t0 + t1) * d >= T(0.5) ? 1 : 0);
+        return skipSearchFace(proj, r, index, ray, frame, face, t0, t1, T(0.5));
+      }
       Hit hit = skipSearchFace(proj, r, index, ray, frame, first, t0, tMid, T(0.5));
       if (hit.valid()) return hit;
       return skipSearchFace(proj, r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
@@ -411,13 +423,21 @@ class ReliefTracer {
       const int size = 1 << level, nodes = mPyramid.size(level);
       // The node the ray is in, nudged along the ray so boundaries go to the node ahead.
       const T x = x0 + s * dx, y = y0 + s * dy;
-      const T nudgeX = dx > 0 ? T(1e-9) : (dx < 0 ? T(-1e-9) : T(0));
-      const T nudgeY = dy > 0 ? T(1e-9) : (dy < 0 ? T(-1e-9) : T(0));
-      const int ix = std::clamp(int(std::floor((x + nudgeX) / T(size))), 0, nodes - 1);
-      const int iy = std::clamp(int(std::floor((y + nudgeY) / T(size))), 0, nodes - 1);
+      // A few ulps of the coordinate: a fixed nudge vanishes in float away from zero.
+      auto nudge = [](T v, T dv) {
+        return dv == 0 ? T(0)
+                       : std::copysign(T(4) * std::numeric_limits<T>::epsilon() * std::max(T(1), std::abs(v)), dv);
+      };
+      const int ix = std::clamp(int(std::floor((x + nudge(x, dx)) / T(size))), 0, nodes - 1);
+      const int iy = std::clamp(int(std::floor((y + nudge(y, dy)) / T(size))), 0, nodes - 1);
+      // An axis along which the ray is already past the layer's edge and moving away never
+      // exits a node: it must not hold the walk at s (rounding puts a ray there near cell edges).
+      const T edge = T(mPyramid.size(0));
       T sExit = T(1);
-      if (dx != 0) sExit = std::min(sExit, (T(dx > 0 ? (ix + 1) * size : ix * size) - x0) / dx);
-      if (dy != 0) sExit = std::min(sExit, (T(dy > 0 ? (iy + 1) * size : iy * size) - y0) / dy);
+      if (dx != 0 && !(dx > 0 ? x >= edge : x <= 0))
+        sExit = std::min(sExit, (T(dx > 0 ? (ix + 1) * size : ix * size) - x0) / dx);
+      if (dy != 0 && !(dy > 0 ? y >= edge : y <= 0))
+        sExit = std::min(sExit, (T(dy > 0 ? (iy + 1) * size : iy * size) - y0) / dy);
       sExit = std::max(sExit, s + kProgress);
       std::uint32_t code = 0;
       if (level > 0) {
@@ -469,23 +489,36 @@ class ReliefTracer {
   static std::optional<T> firstRoot(T a, T b, T c, T lo, T hi) {
     auto value = [&](T s) { return (a * s + b) * s + c; };
     const T fLo = value(lo), fHi = value(hi);
+    // The end values decide when rounding defeats the closed form: a sign change always has a
+    // root, found by bisection then.
+    const bool signChange = (fLo > 0) != (fHi > 0);
+    auto bisect = [&] {
+      T l = lo, h = hi;
+      for (int i = 0; i < 40; ++i) {
+        const T m = T(0.5) * (l + h);
+        ((value(m) > 0) == (fLo > 0) ? l : h) = m;
+      }
+      return h;
+    };
     const T magnitude = std::abs(a) + std::abs(b) + std::abs(c);
     if (std::abs(a) <= T(1e-12) * std::max(magnitude, T(1e-30))) {
-      if (b == 0) return c == 0 ? std::optional<T>(lo) : std::nullopt;
-      const T s = -c / b;
-      if (s >= lo && s <= hi) return s;
-      return std::nullopt;
+      if (b != 0) {
+        const T s = -c / b;
+        if (s >= lo && s <= hi) return s;
+      } else if (c == 0) {
+        return lo;
+      }
+      return signChange ? std::optional<T>(bisect()) : std::nullopt;
     }
     const T disc = b * b - 4 * a * c;
-    if (disc < 0) return std::nullopt;
+    if (disc < 0) return signChange ? std::optional<T>(bisect()) : std::nullopt;
     const T q = T(-0.5) * (b + std::copysign(std::sqrt(disc), b));
     T r0 = q / a, r1 = q != 0 ? c / q : r0;
     if (r0 > r1) std::swap(r0, r1);
     if (r0 >= lo && r0 <= hi) return r0;
     if (r1 >= lo && r1 <= hi) return r1;
     // Rounding can push a root just outside while the end values still differ in sign.
-    if ((fLo > 0) != (fHi > 0)) return std::clamp(std::abs(r0 - lo) < std::abs(r1 - hi) ? r0 : r1, lo, hi);
-    return std::nullopt;
+    return signChange ? std::optional<T>(bisect()) : std::nullopt;
   }
 
   template <class P>

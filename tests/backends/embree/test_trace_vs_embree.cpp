@@ -89,7 +89,7 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
   render::RenderOptions options;
   options.width = options.height = 200;
   options.channels = render::kDepth | render::kNormal | render::kMask;
-  for (const auto [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
+  for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
     const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * diagonal, yaw, pitch);
     const render::Frame ours = backend.renderFrame(camera, options);
     const render::Frame truth = reference.renderReference(camera, options.width, options.height);
