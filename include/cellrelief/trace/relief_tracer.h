@@ -133,7 +133,14 @@ class ReliefTracer {
 
   /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
   /// be normalized; t is in units of it.
-  Hit intersect(const Ray<T>& input) const {
+  Hit intersect(const Ray<T>& ray) const { return trace(ray, true); }
+
+  /// Whether anything lies on the ray within [tmin, tmax] (shadow rays): the search without the
+  /// shading of the hit.
+  bool occluded(const Ray<T>& ray) const { return trace(ray, false).valid(); }
+
+ private:
+  Hit trace(const Ray<T>& input, bool shadeHit) const {
     // The inverse direction is recomputed: the ray's fields are public and may disagree.
     Ray<T> ray = input;
     ray.setDirection(input.direction);
@@ -183,7 +190,12 @@ class ReliefTracer {
         const auto proj = record.projection<T>();
         const CellFrame frame = cellFrame(ray, record);
         Hit hit = proj.visit([&](const auto& p) {
-          return searchCell(p, record, index, ray, frame, tCell, tExit, side);
+          Hit found = searchCell(p, record, index, ray, frame, tCell, tExit, side);
+          if (found.valid() && shadeHit) {
+            shade(p, record, found);
+            if (found.normal == Vec3f(0)) found.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
+          }
+          return found;
         });
         if (hit.valid()) return hit;
       } else {
@@ -199,10 +211,6 @@ class ReliefTracer {
     return {};
   }
 
-  /// Whether anything lies on the ray within [tmin, tmax] (shadow rays).
-  bool occluded(const Ray<T>& ray) const { return intersect(ray).valid(); }
-
- private:
   /// The ray in a cell's unit coordinates: p(t) = origin + t * direction.
   struct CellFrame {
     Vec3<T> origin{0};
@@ -291,7 +299,7 @@ class ReliefTracer {
     auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
     if (side.where != Side::Unknown && (fIn > 0) != (side.where == Side::Inside) &&
         !(farFromSurface(fIn) && farFromSurface(side.exitField)))
-      return makeHit(proj, r, index, ray, t0, fp, 1);
+      return makeHit(index, ray, t0, fp, 1);
     Hit hit = searchInside(proj, r, index, ray, frame, t0, t1);
     if (!hit.valid()) {
       const T fOut = field(proj, r, local(t1), fp);
@@ -349,7 +357,7 @@ class ReliefTracer {
           }
         }
         field(proj, r, local(hi), fp);
-        return makeHit(proj, r, index, ray, hi, fp, steps);
+        return makeHit(index, ray, hi, fp, steps);
       }
       fPrev = f;
       tPrev = t;
@@ -363,7 +371,7 @@ class ReliefTracer {
   Hit skipSearch(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
                  const CellFrame& frame, T t0, T t1) const {
     if constexpr (std::is_same_v<P, projection::ParallelProjection<T>>) {
-      return skipSearchFace(proj, r, index, ray, frame, proj.face, t0, t1, T(1));
+      return skipSearchFace(r, index, ray, frame, proj.face, t0, t1, T(1));
     } else {
       const int axis = proj.axis;
       const T o = frame.origin[axis], d = frame.direction[axis];
@@ -374,16 +382,15 @@ class ReliefTracer {
       if (!(tMid > t0 && tMid < t1)) {
         // One half only: decided by the segment's middle, which rounding cannot put on the plane.
         const int face = 2 * axis + (o + T(0.5) * (t0 + t1) * d >= T(0.5) ? 1 : 0);
-        return skipSearchFace(proj, r, index, ray, frame, face, t0, t1, T(0.5));
+        return skipSearchFace(r, index, ray, frame, face, t0, t1, T(0.5));
       }
-      Hit hit = skipSearchFace(proj, r, index, ray, frame, first, t0, tMid, T(0.5));
+      Hit hit = skipSearchFace(r, index, ray, frame, first, t0, tMid, T(0.5));
       if (hit.valid()) return hit;
-      return skipSearchFace(proj, r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
+      return skipSearchFace(r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
     }
   }
 
-  template <class P>
-  Hit skipSearchFace(const P& proj, const relief::CellRecord& r, std::int32_t index,
+  Hit skipSearchFace(const relief::CellRecord& r, std::int32_t index,
                      const Ray<T>& ray, const CellFrame& frame, int face, T t0, T t1,
                      T depthLimit) const {
     const int layer = r.layerOf(face);
@@ -410,7 +417,7 @@ class ReliefTracer {
       const Vec3<T> p = glm::clamp(frame.origin + t * frame.direction, Vec3<T>(0), Vec3<T>(1));
       fp.uv = Vec2<T>(p[ua], p[va]);
       fp.distance = depthAt(sHit);
-      return makeHit(proj, r, index, ray, t, fp, steps);
+      return makeHit(index, ray, t, fp, steps);
     };
     // Which side of the surface the ray is on, as the sampled search reads it: an empty texel
     // cell (the rim of the surface's projection) reads as outside, so entering a texel cell
@@ -521,9 +528,9 @@ class ReliefTracer {
     return signChange ? std::optional<T>(bisect()) : std::nullopt;
   }
 
-  template <class P>
-  Hit makeHit(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
-              T t, const projection::FacePoint<T>& fp, std::uint32_t steps) const {
+  /// The hit record at t, without shading (trace() shades the one it returns).
+  Hit makeHit(std::int32_t index, const Ray<T>& ray, T t, const projection::FacePoint<T>& fp,
+              std::uint32_t steps) const {
     Hit hit;
     hit.t = t;
     hit.position = ray.at(t);
@@ -532,8 +539,6 @@ class ReliefTracer {
     hit.uv = Vec2f(glm::clamp(fp.uv, Vec2<T>(0), Vec2<T>(1)));
     hit.texel = hit.uv * float(mModel.texels - 1);
     hit.steps = steps;
-    shade(proj, r, hit);
-    if (hit.normal == Vec3f(0)) hit.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
     return hit;
   }
 
