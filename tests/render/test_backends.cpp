@@ -8,6 +8,8 @@
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/relief/convert.h>
 
+#include "test_support.h"
+
 namespace cellrelief::render {
 namespace {
 
@@ -59,6 +61,10 @@ class EveryBackend : public ::testing::TestWithParam<BackendKind> {
  protected:
   void SetUp() override {
     const Availability a = backends::isAvailable(GetParam());
+    // OpenGL comes up on every Debian machine this project supports (llvmpipe without a GPU):
+    // under CI its absence is a failure, not a skip.
+    if (!a && GetParam() == BackendKind::OpenGL && test::inCI())
+      FAIL() << "OpenGL must run under CI: " << a.reason;
     if (!a) GTEST_SKIP() << backendName(GetParam()) << ": " << a.reason;
     mBackend = backends::createBackend(GetParam());
   }

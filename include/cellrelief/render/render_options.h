@@ -8,7 +8,7 @@
 #include <cstddef>
 
 #include "cellrelief/render/frame.h"
-#include "cellrelief/trace/relief_tracer.h"
+#include "cellrelief/trace/trace_options.h"
 
 namespace cellrelief::render {
 

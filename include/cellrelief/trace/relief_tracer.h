@@ -47,39 +47,9 @@
 #include "cellrelief/core/ray.h"
 #include "cellrelief/relief/relief_model.h"
 #include "cellrelief/trace/empty_space.h"
+#include "cellrelief/trace/trace_options.h"
 
 namespace cellrelief::trace {
-
-struct TraceOptions {
-  int minLinearSteps = 4;      ///< linear samples per cell for a ray along the projection direction
-  int maxLinearSteps = 64;     ///< at most, for a ray grazing the face
-  float stepsPerTexel = 1.5f;  ///< linear samples per texel the ray's projection crosses
-  int binarySteps = 8;      ///< refinement after the linear search (1 / 256 of a linear step)
-  bool skipEmptySpace = true;  ///< min-pyramid skipping and exact texel tests in parallel/planar cells
-  bool operator==(const TraceOptions&) const = default;
-};
-
-/// A search policy decides how many linear samples a ray segment inside a cell gets.
-/// Requirements: a static `linearSteps(options, footprintTexels)` returning the count (>= 2),
-/// where footprintTexels is how many texels of the maps the segment's projection crosses.
-template <class S>
-concept SearchPolicy = requires(const TraceOptions& o, double footprint) {
-  { S::linearSteps(o, footprint) } -> std::convertible_to<int>;
-};
-
-/// Footprint-balanced linear search: minLinearSteps plus stepsPerTexel for each texel crossed,
-/// at most maxLinearSteps.
-struct BalancedSearch {
-  static int linearSteps(const TraceOptions& o, double footprintTexels) {
-    const double steps = o.minLinearSteps + o.stepsPerTexel * footprintTexels;
-    return std::clamp(int(std::ceil(steps)), 2, std::max(2, o.maxLinearSteps));
-  }
-};
-
-/// The paper's plain search: maxLinearSteps samples in every cell, whatever the ray.
-struct UniformSearch {
-  static int linearSteps(const TraceOptions& o, double) { return std::max(2, o.maxLinearSteps); }
-};
 
 /// Where a ray met the relief surface.
 template <Real T>
@@ -218,7 +188,7 @@ class ReliefTracer {
   };
   /// |f| on a projection line without surface: beyond any real value (at most sqrt(3) in a cell),
   /// so that "no surface here" stays distinguishable from a distance.
-  static constexpr T kEmptyField = T(4);
+  static constexpr T kEmptyField = T(constants::kEmptyField);
 
   /// Where the ray is relative to the surface, and |f| where it left the last grey cell
   /// (infinity after a white or black cell, where no surface can be).
@@ -295,7 +265,7 @@ class ReliefTracer {
     // surface twice, past the occlusion the grid size allows), and the entered cell is trusted.
     // An empty line (no surface sampled, as in a sliver thinner than a sample) tells nothing
     // against the crossing.
-    const T nearFace = T(2) / T(mModel.texels - 1);
+    const T nearFace = T(constants::kNearFaceSamples) / T(mModel.texels - 1);
     auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
     if (side.where != Side::Unknown && (fIn > 0) != (side.where == Side::Inside) &&
         !(farFromSurface(fIn) && farFromSurface(side.exitField)))
@@ -330,9 +300,9 @@ class ReliefTracer {
     // whole face crossed (conservative: the two pieces meet on the shared edge).
     T footprint = 0;
     projection::FacePoint<T> a = fp;
-    for (int k = 1; k <= 3; ++k) {
-      const projection::FacePoint<T> b =
-          proj.project(glm::clamp(local(t0 + (t1 - t0) * T(k) / T(3)), Vec3<T>(0), Vec3<T>(1)));
+    for (int k = 1; k <= constants::kFootprintProbes; ++k) {
+      const projection::FacePoint<T> b = proj.project(glm::clamp(
+          local(t0 + (t1 - t0) * T(k) / T(constants::kFootprintProbes)), Vec3<T>(0), Vec3<T>(1)));
       footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
       a = b;
     }
@@ -424,7 +394,7 @@ class ReliefTracer {
     // below its surface, or leaving one into the rim, is a crossing at the texel cell's edge.
     bool inside = false;
     if (const std::optional<T> d = stored(layer, Vec2<T>(p0[ua], p0[va]))) inside = depthAt(0) > *d;
-    constexpr T kProgress = T(1e-6);  // a floor on each advance, against rounding stalls
+    constexpr T kProgress = T(constants::kSkipProgress);  // a floor on each advance, against rounding stalls
     while (s < T(1)) {
       ++steps;
       const int size = 1 << level, nodes = mPyramid.size(level);
@@ -433,7 +403,8 @@ class ReliefTracer {
       // A few ulps of the coordinate: a fixed nudge vanishes in float away from zero.
       auto nudge = [](T v, T dv) {
         return dv == 0 ? T(0)
-                       : std::copysign(T(4) * std::numeric_limits<T>::epsilon() * std::max(T(1), std::abs(v)), dv);
+                       : std::copysign(T(constants::kNudgeUlps) * std::numeric_limits<T>::epsilon() *
+                                           std::max(T(1), std::abs(v)), dv);
       };
       const int ix = std::clamp(int(std::floor((x + nudge(x, dx)) / T(size))), 0, nodes - 1);
       const int iy = std::clamp(int(std::floor((y + nudge(y, dy)) / T(size))), 0, nodes - 1);
@@ -501,14 +472,14 @@ class ReliefTracer {
     const bool signChange = (fLo > 0) != (fHi > 0);
     auto bisect = [&] {
       T l = lo, h = hi;
-      for (int i = 0; i < 40; ++i) {
+      for (int i = 0; i < constants::kRootBisections; ++i) {
         const T m = T(0.5) * (l + h);
         ((value(m) > 0) == (fLo > 0) ? l : h) = m;
       }
       return h;
     };
     const T magnitude = std::abs(a) + std::abs(b) + std::abs(c);
-    if (std::abs(a) <= T(1e-12) * std::max(magnitude, T(1e-30))) {
+    if (std::abs(a) <= T(constants::kQuadraticEpsilon) * std::max(magnitude, T(1e-30))) {
       if (b != 0) {
         const T s = -c / b;
         if (s >= lo && s <= hi) return s;
@@ -555,8 +526,9 @@ class ReliefTracer {
     // edge) can round to an empty sample: shade from the nearest filled one within two samples.
     if (sampleCode(layer, a, b) == mModel.emptyCode()) {
       int best = std::numeric_limits<int>::max(), bestA = a, bestB = b;
-      for (int y = std::max(0, b - 2); y <= std::min(texels - 1, b + 2); ++y)
-        for (int x = std::max(0, a - 2); x <= std::min(texels - 1, a + 2); ++x) {
+      const int radius = constants::kShadeSearchRadius;
+      for (int y = std::max(0, b - radius); y <= std::min(texels - 1, b + radius); ++y)
+        for (int x = std::max(0, a - radius); x <= std::min(texels - 1, a + radius); ++x) {
           const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
           if (d2 < best && sampleCode(layer, x, y) != mModel.emptyCode())
             best = d2, bestA = x, bestB = y;

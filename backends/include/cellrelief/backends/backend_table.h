@@ -5,15 +5,19 @@
 /// definitions the `cellrelief::backends` target carries, so a reader sees every backend in one
 /// place and an absent dependency compiles nothing.
 ///
-/// "auto" takes the first available backend in order of preference (a GPU backend once one is
-/// available, else the CPU reference). The OpenGL and Vulkan backends are later issues: until
-/// they land, their rows answer "not implemented in this version" rather than pretending.
+/// "auto" takes the first available backend in order of preference: OpenGL on a hardware GPU,
+/// else the CPU reference, except that OpenGL on llvmpipe is preferred over the CPU where
+/// bench_backends measured it faster (docs/backends.md). The Vulkan backend is a later issue:
+/// until it lands, its row answers "not implemented in this version" rather than pretending.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "cellrelief/cpu/cpu_backend.h"
+#ifdef CELLRELIEF_HAS_OPENGL
+#include "cellrelief/gl/gl_backend.h"
+#endif
 #include "cellrelief/render/backend.h"
 
 namespace cellrelief::backends {
@@ -26,7 +30,7 @@ inline render::Availability isAvailable(render::BackendKind kind) {
     case BackendKind::Cpu: return {true, ""};
     case BackendKind::OpenGL:
 #ifdef CELLRELIEF_HAS_OPENGL
-      return {false, "the OpenGL backend is not implemented in this version of cellrelief"};
+      return gl::probeAvailability();
 #else
       return {false, "compiled without OpenGL (install libegl-dev libegl1-mesa-dev)"};
 #endif
@@ -44,7 +48,7 @@ inline render::Availability isAvailable(render::BackendKind kind) {
 inline render::BackendKind resolve(render::BackendKind kind) {
   using render::BackendKind;
   if (kind != BackendKind::Auto) return kind;
-  for (BackendKind k : {BackendKind::Vulkan, BackendKind::OpenGL})
+  for (BackendKind k : {BackendKind::OpenGL})
     if (isAvailable(k)) return k;
   return BackendKind::Cpu;
 }
@@ -57,6 +61,9 @@ inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind) 
                 "backend '" + std::string(render::backendName(resolved)) + "': " + a.reason);
   switch (resolved) {
     case render::BackendKind::Cpu: return std::make_unique<cpu::CpuBackend>();
+#ifdef CELLRELIEF_HAS_OPENGL
+    case render::BackendKind::OpenGL: return std::make_unique<gl::GlBackend>();
+#endif
     default: break;
   }
   throw Error(ErrorKind::Unsupported,

@@ -110,7 +110,7 @@ class CpuBackend final : public render::Backend {
   /// model it left, past the reach of its own reconstruction error.
   float surfaceOffset(int model) const {
     const relief::ReliefModel& m = *mScene.models[std::size_t(model)];
-    return float(2.0 * m.cellSizeWS / std::max(1, m.texels - 1));
+    return float(double(trace::constants::kSurfaceOffsetSamples) * m.cellSizeWS / std::max(1, m.texels - 1));
   }
 
   Vec3f shade(const Rayf& ray, const SceneHit& sh, Vec3f normal,

@@ -1,0 +1,385 @@
+// SPDX-License-Identifier: MIT
+/// @file gl_backend.h
+/// The OpenGL 4.5 backend: the scene in the GPU layout (gpu/gpu_layout.h: cell table and hash
+/// lookup in storage buffers, maps in integer array-texture atlases) and the one GLSL traversal
+/// (backends/shaders/relief_trace.comp) as a compute pass over the pixels, on a headless EGL
+/// context (egl_context.h).
+///
+/// Why a compute pass and not the paper's rasterized boundary faces: measured on llvmpipe
+/// (docs/backends.md), the ray cast itself dominates and the fragment path's only saving, pixels
+/// outside the model's silhouette, is what the first DDA step already rejects; a compute pass
+/// also needs no depth/stencil set-up, reads back as one buffer, and is the same on Vulkan.
+///
+/// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with
+/// only the projection types, maps and features present (gpu/shader_preamble.h); variants are
+/// cached. setGeneralShader(true) renders with the one shader that holds everything instead.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cellrelief/gl/egl_context.h"
+#include "cellrelief/gpu/gpu_layout.h"
+#include "cellrelief/gpu/shader_preamble.h"
+#include "cellrelief/render/backend.h"
+
+namespace cellrelief::gl {
+
+/// The std140 uniform block `Params` of the shader.
+struct FrameParams {
+  float eye[4], forward[4], right[4], up[4], ambient[4], background[4];
+  struct Light {
+    float direction[4];
+    float color[4];
+  } lights[8];
+  std::int32_t size[4];    ///< width, height, models, lights
+  std::int32_t steps[4];   ///< minLinear, maxLinear, binary, reflection bounces
+  float tuning[4];         ///< stepsPerTexel, reflectivity
+  std::int32_t flags[4];   ///< shadows, skip, color offset, depth offset
+  std::int32_t offsets[4]; ///< normal offset, mask offset
+};
+inline constexpr int kMaxLights = 8;
+
+class GlBackend final : public render::Backend {
+ public:
+  GlBackend() : mContext(std::make_unique<EglContext>()) { queryLimits(); }
+  ~GlBackend() override {
+    mContext->makeCurrent();
+    releaseScene();
+    for (auto& [name, program] : mPrograms) glDeleteProgram(program);
+    if (mFrameBuffer) glDeleteBuffers(1, &mFrameBuffer);
+    if (mParamsBuffer) glDeleteBuffers(1, &mParamsBuffer);
+    if (mTimer) glDeleteQueries(1, &mTimer);
+  }
+
+  render::BackendKind kind() const override { return render::BackendKind::OpenGL; }
+  std::string description() const override { return "OpenGL: " + mContext->description(); }
+  const EglContext& context() const { return *mContext; }
+  const gpu::DeviceLimits& limits() const { return mLimits; }
+
+  void upload(const render::Scene& scene) override {
+    mContext->makeCurrent();
+    releaseScene();
+    if (scene.lights.size() > std::size_t(kMaxLights))
+      throw Error(ErrorKind::InvalidArgument, "the OpenGL backend shades at most " +
+                                                  std::to_string(kMaxLights) + " lights; the scene has " +
+                                                  std::to_string(scene.lights.size()));
+    mScene = scene;
+    mGpu = gpu::packScene(scene, mLimits, true);
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    mBuffers[0] = storageBuffer(mGpu.models.data(), mGpu.models.size() * sizeof(gpu::ModelInfo));
+    mBuffers[1] = storageBuffer(mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord));
+    mBuffers[2] = storageBuffer(mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t));
+    mBuffers[3] = storageBuffer(mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t));
+    mTextures[0] = atlasTexture(mGpu.distances, GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT);
+    mTextures[1] = atlasTexture(mGpu.normalsOct, GL_RG16UI, GL_RG_INTEGER, GL_UNSIGNED_SHORT);
+    mTextures[2] = atlasTexture(mGpu.normalsRgba, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
+    mTextures[3] = atlasTexture(mGpu.colors, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
+    glFinish();
+    if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+      releaseScene();
+      throw Error(e == GL_OUT_OF_MEMORY ? ErrorKind::ResourceLimit : ErrorKind::Unsupported,
+                  "the scene (" + gpu::detail::mib(mGpu.bytes()) + ") could not be uploaded to " +
+                      mContext->renderer() + (e == GL_OUT_OF_MEMORY ? ": out of device memory" : ": GL error " + std::to_string(e)));
+    }
+    // The host copy of the atlases is not needed any more; the layout (models, features) is.
+    mGpuBytes = mGpu.bytes();
+    mGpu.distances.texels = {};
+    mGpu.normalsOct.texels = {};
+    mGpu.normalsRgba.texels = {};
+    mGpu.colors.texels = {};
+    mUploaded = true;
+  }
+
+  void render(const render::Camera& camera, const render::RenderOptions& options) override {
+    if (!mUploaded) throw Error(ErrorKind::InvalidArgument, "OpenGL backend: render() before upload()");
+    if (options.width < 1 || options.height < 1)
+      throw Error(ErrorKind::InvalidArgument, "OpenGL backend: empty frame size");
+    mContext->makeCurrent();
+    const GLuint program = programFor(variantFor(options));
+    const FrameLayout layout = frameLayout(options);
+    ensureFrameBuffer(layout.words);
+    FrameParams params = frameParams(camera, options, layout);
+    if (!mParamsBuffer) glCreateBuffers(1, &mParamsBuffer), glNamedBufferStorage(mParamsBuffer, sizeof(FrameParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferSubData(mParamsBuffer, 0, sizeof(FrameParams), &params);
+    glUseProgram(program);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, mParamsBuffer);
+    for (int i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(1 + i), mBuffers[i]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, mFrameBuffer);
+    for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
+    if (!mTimer) glGenQueries(1, &mTimer);
+    glBeginQuery(GL_TIME_ELAPSED, mTimer);
+    glDispatchCompute(GLuint((options.width + 7) / 8), GLuint((options.height + 7) / 8), 1);
+    glEndQuery(GL_TIME_ELAPSED);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    mLayout = layout;
+    mRendered = true;
+  }
+
+  void readBack(render::Frame& frame) override {
+    if (!mRendered) throw Error(ErrorKind::InvalidArgument, "OpenGL backend: readBack() before render()");
+    mContext->makeCurrent();
+    std::vector<std::uint32_t> words(mLayout.words);
+    glGetNamedBufferSubData(mFrameBuffer, 0, GLsizeiptr(words.size() * 4), words.data());
+    GLuint64 nanoseconds = 0;
+    glGetQueryObjectui64v(mTimer, GL_QUERY_RESULT, &nanoseconds);
+    mGpuSeconds = double(nanoseconds) * 1e-9;
+    const int w = mLayout.width, h = mLayout.height;
+    frame.resize(w, h, mLayout.channels);
+    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    if (frame.has(render::kColor)) {
+      auto out = frame.color.levelData();
+      for (std::size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 4; ++c) out[4 * i + std::size_t(c)] = std::uint8_t(words[mLayout.color + i] >> (8 * c));
+    }
+    if (frame.has(render::kDepth)) std::memcpy(frame.depth.levelData().data(), &words[mLayout.depth], pixels * 4);
+    if (frame.has(render::kNormal))
+      std::memcpy(frame.normal.levelData().data(), &words[mLayout.normal], 3 * pixels * 4);
+    if (frame.has(render::kMask)) {
+      auto out = frame.mask.levelData();
+      for (std::size_t i = 0; i < pixels; ++i) out[i] = std::uint8_t(words[mLayout.mask + i]);
+    }
+  }
+
+  std::size_t sceneBytes() const override { return mUploaded ? mGpuBytes : 0; }
+
+  /// GPU time of the last frame's dispatch (a timer query), known after readBack().
+  double lastGpuSeconds() const { return mGpuSeconds; }
+  /// Render with the one shader that holds every projection, map and feature (to measure what
+  /// the specialized variants save).
+  void setGeneralShader(bool general) { mGeneral = general; }
+  /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
+  void setGather(bool gather) { mGather = gather; }
+  /// The variant the next render with these options uses.
+  gpu::ShaderVariant variantFor(const render::RenderOptions& options) const {
+    gpu::ShaderVariant v = mGeneral ? gpu::ShaderVariant::general()
+                                    : gpu::ShaderVariant::specialized(mGpu.features, options.trace.skipEmptySpace,
+                                                                      options.shadows, options.reflectionBounces > 0,
+                                                                      options.channels);
+    if (mGeneral) v.channels = render::kAllChannels;
+    v.gather = mGather;
+    return v;
+  }
+  /// Seconds spent compiling and linking shader variants so far.
+  double compileSeconds() const { return mCompileSeconds; }
+
+ private:
+  struct FrameLayout {
+    int width = 0, height = 0;
+    unsigned channels = 0;
+    std::size_t color = 0, depth = 0, normal = 0, mask = 0, words = 0;
+  };
+
+  void queryLimits() {
+    GLint size = 0, layers = 0, block = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &size);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    GLint64 block64 = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block64);
+    mLimits.maxTextureSize = size > 0 ? size : 2048;
+    mLimits.maxArrayLayers = layers > 0 ? layers : 256;
+    mLimits.maxStorageBytes = block64 > 0 ? std::size_t(block64) : std::size_t(block > 0 ? block : 1 << 27);
+  }
+
+  FrameLayout frameLayout(const render::RenderOptions& o) const {
+    FrameLayout l;
+    l.width = o.width;
+    l.height = o.height;
+    l.channels = o.channels;
+    const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
+    std::size_t at = 0;
+    auto take = [&](unsigned channel, std::size_t perPixel, std::size_t& offset) {
+      if (o.channels & channel) offset = at, at += perPixel * pixels;
+    };
+    take(render::kColor, 1, l.color);
+    take(render::kDepth, 1, l.depth);
+    take(render::kNormal, 3, l.normal);
+    take(render::kMask, 1, l.mask);
+    l.words = std::max<std::size_t>(at, 4);
+    if (l.words * 4 > mLimits.maxStorageBytes)
+      throw Error(ErrorKind::ResourceLimit,
+                  "a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " frame needs " +
+                      gpu::detail::mib(l.words * 4) + " of output, beyond the device's storage buffer limit of " +
+                      gpu::detail::mib(mLimits.maxStorageBytes));
+    return l;
+  }
+
+  FrameParams frameParams(const render::Camera& camera, const render::RenderOptions& o,
+                          const FrameLayout& layout) const {
+    FrameParams p{};
+    // Camera::primaryRay's basis, computed once per frame.
+    const Vec3d forward = glm::normalize(camera.target - camera.eye);
+    Vec3d side = glm::cross(forward, camera.up);
+    if (glm::length(side) < 1e-9 * glm::length(camera.up)) side = glm::cross(forward, Vec3d(0, 0, 1));
+    if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
+    const Vec3d right = glm::normalize(side);
+    const Vec3d trueUp = glm::cross(right, forward);
+    const double tanHalf = std::tan(0.5 * camera.verticalFovDegrees * M_PI / 180);
+    const double aspect = double(o.width) / double(o.height);
+    auto put = [](float* dst, const Vec3d& v, float w = 0) {
+      dst[0] = float(v.x), dst[1] = float(v.y), dst[2] = float(v.z), dst[3] = w;
+    };
+    put(p.eye, camera.eye);
+    put(p.forward, forward);
+    put(p.right, right * (tanHalf * aspect));
+    put(p.up, trueUp * tanHalf);
+    put(p.ambient, Vec3d(mScene.ambient));
+    for (int c = 0; c < 4; ++c) p.background[c] = mScene.background[c];
+    for (std::size_t i = 0; i < mScene.lights.size(); ++i) {
+      const render::DirectionalLight& l = mScene.lights[i];
+      put(p.lights[i].direction, glm::normalize(Vec3d(l.direction)));
+      put(p.lights[i].color, Vec3d(l.color * l.intensity));
+    }
+    p.size[0] = o.width;
+    p.size[1] = o.height;
+    p.size[2] = int(mGpu.models.size());
+    p.size[3] = int(mScene.lights.size());
+    p.steps[0] = o.trace.minLinearSteps;
+    p.steps[1] = o.trace.maxLinearSteps;
+    p.steps[2] = o.trace.binarySteps;
+    p.steps[3] = o.reflectionBounces;
+    p.tuning[0] = o.trace.stepsPerTexel;
+    p.tuning[1] = o.reflectivity;
+    p.flags[0] = o.shadows ? 1 : 0;
+    p.flags[1] = o.trace.skipEmptySpace ? 1 : 0;
+    p.flags[2] = int(layout.color);
+    p.flags[3] = int(layout.depth);
+    p.offsets[0] = int(layout.normal);
+    p.offsets[1] = int(layout.mask);
+    return p;
+  }
+
+  void ensureFrameBuffer(std::size_t words) {
+    if (mFrameBuffer && mFrameWords >= words) return;
+    if (mFrameBuffer) glDeleteBuffers(1, &mFrameBuffer);
+    glCreateBuffers(1, &mFrameBuffer);
+    glNamedBufferStorage(mFrameBuffer, GLsizeiptr(words * 4), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (glGetError() == GL_OUT_OF_MEMORY) {
+      glDeleteBuffers(1, &mFrameBuffer);
+      mFrameBuffer = 0;
+      throw Error(ErrorKind::ResourceLimit, "OpenGL backend: out of device memory for a frame of " +
+                                                gpu::detail::mib(words * 4));
+    }
+    mFrameWords = words;
+  }
+
+  static GLuint storageBuffer(const void* data, std::size_t bytes) {
+    GLuint buffer = 0;
+    glCreateBuffers(1, &buffer);
+    // Never empty: a zero-sized buffer cannot be bound.
+    const std::uint32_t zeros[4] = {0, 0, 0, 0};
+    if (bytes == 0) data = zeros, bytes = sizeof zeros;
+    glNamedBufferStorage(buffer, GLsizeiptr(bytes), data, 0);
+    return buffer;
+  }
+
+  template <class T>
+  static GLuint atlasTexture(const gpu::Atlas<T>& atlas, GLenum internalFormat, GLenum format, GLenum type) {
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    if (atlas.empty()) {  // an unused map: a 1 x 1 placeholder keeps the binding complete
+      glTextureStorage3D(texture, 1, internalFormat, 1, 1, 1);
+      const std::uint32_t zero[2] = {0, 0};
+      glTextureSubImage3D(texture, 0, 0, 0, 0, 1, 1, 1, format, type, zero);
+      return texture;
+    }
+    glTextureStorage3D(texture, 1, internalFormat, atlas.width, atlas.height, atlas.layers);
+    glTextureSubImage3D(texture, 0, 0, 0, 0, atlas.width, atlas.height, atlas.layers, format, type,
+                        atlas.texels.data());
+    return texture;
+  }
+
+  GLuint programFor(const gpu::ShaderVariant& variant) {
+    const std::string key = variant.name() + "#" + std::to_string(variant.channels);
+    if (auto it = mPrograms.find(key); it != mPrograms.end()) return it->second;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string source = gpu::reliefTraceShader(variant, false);
+    const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+    const char* text = source.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      const std::string log = shaderLog(shader, false);
+      glDeleteShader(shader);
+      throw Error(ErrorKind::Unsupported, "OpenGL backend: the traversal shader (variant " + variant.name() +
+                                              ") does not compile on " + mContext->renderer() + ":\n" + log);
+    }
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, shader);
+    glLinkProgram(program);
+    glDeleteShader(shader);
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+      const std::string log = shaderLog(program, true);
+      glDeleteProgram(program);
+      throw Error(ErrorKind::Unsupported, "OpenGL backend: the traversal shader (variant " + variant.name() +
+                                              ") does not link on " + mContext->renderer() + ":\n" + log);
+    }
+    mCompileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    mPrograms[key] = program;
+    return program;
+  }
+
+  static std::string shaderLog(GLuint object, bool program) {
+    GLint length = 0;
+    program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+    std::string log(std::size_t(std::max(length, 1)), '\0');
+    program ? glGetProgramInfoLog(object, length, nullptr, log.data())
+            : glGetShaderInfoLog(object, length, nullptr, log.data());
+    while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+    return log;
+  }
+
+  void releaseScene() {
+    for (GLuint& b : mBuffers)
+      if (b) glDeleteBuffers(1, &b), b = 0;
+    for (GLuint& t : mTextures)
+      if (t) glDeleteTextures(1, &t), t = 0;
+    mUploaded = false;
+    mRendered = false;
+    mGpuBytes = 0;
+  }
+
+  std::unique_ptr<EglContext> mContext;
+  gpu::DeviceLimits mLimits;
+  render::Scene mScene;
+  gpu::GpuScene mGpu;
+  std::size_t mGpuBytes = 0;
+  GLuint mBuffers[4] = {0, 0, 0, 0};   ///< models, cells, hash, pyramid
+  GLuint mTextures[4] = {0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors
+  GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
+  std::size_t mFrameWords = 0;
+  std::map<std::string, GLuint> mPrograms;
+  FrameLayout mLayout;
+  bool mUploaded = false, mRendered = false, mGeneral = false, mGather = false;
+  double mGpuSeconds = 0, mCompileSeconds = 0;
+};
+
+/// Whether an OpenGL 4.5 context comes up here, and why not (probed once per process).
+inline render::Availability probeAvailability() {
+  static const render::Availability result = [] {
+    try {
+      EglContext context;
+      return render::Availability{true, ""};
+    } catch (const Error& e) {
+      return render::Availability{false, e.what()};
+    }
+  }();
+  return result;
+}
+
+}  // namespace cellrelief::gl

@@ -1,0 +1,932 @@
+// SPDX-License-Identifier: MIT
+// The GPU ray caster of relief models: the algorithm of include/cellrelief/trace/relief_tracer.h
+// and the shading of backends/cpu/cpu_backend.h, one invocation per pixel. Shared by the OpenGL
+// and Vulkan backends; the backend prepends a preamble (backends/gpu/shader_preamble.h) with
+//  - CR_VULKAN or not (binding syntax),
+//  - the traversal constants, written from trace/trace_options.h (never typed here),
+//  - the variant: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection types present),
+//    CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SHADOWS,
+//    CR_REFLECTIONS (features used), CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK.
+// Comments name the C++ function each part follows; the reasons are written there.
+
+#ifdef CR_VULKAN
+#define CR_BIND(n) set = 0, binding = n
+#else
+#define CR_BIND(n) binding = n
+#endif
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#define CR_INF uintBitsToFloat(0x7f800000u)
+#define CR_MAX_LIGHTS 8
+
+struct Light {
+  vec4 direction;  // towards the light, normalized; w unused
+  vec4 color;      // rgb * intensity
+};
+
+layout(std140, CR_BIND(0)) uniform Params {
+  vec4 eye;
+  vec4 forward;
+  vec4 right;
+  vec4 up;            // already scaled: sx * right + sy * up spans the image plane
+  vec4 ambient;
+  vec4 background;
+  Light lights[CR_MAX_LIGHTS];
+  ivec4 size;         // width, height, model count, light count
+  ivec4 steps;        // minLinearSteps, maxLinearSteps, binarySteps, reflection bounces
+  vec4 tuning;        // stepsPerTexel, reflectivity, tanHalf * aspect, tanHalf
+  ivec4 flags;        // shadows, skip, frame offsets: color, depth
+  ivec4 offsets;      // frame offsets: normal, mask; unused
+} P;
+
+struct ModelInfo {
+  float origin[3];
+  float cellSize;
+  float distanceScale;
+  float texelsMinus1;
+  float distanceMax;
+  float pad0;
+  int gridSize;
+  int texels;
+  int cellOffset;
+  int hashOffset;
+  int hashMask;
+  int layerBase;
+  int tilesPerRow;
+  int tilesPerLayer;
+  int emptyCode;
+  int normalFormat;
+  int colorFormat;
+  int pyramidOffset;
+  int pyramidLevels;
+  int pyramidLayerStride;
+  int layerCount;
+  int pad1;
+  int levelSize[CR_MAX_PYRAMID_LEVELS];
+  int levelOffset[CR_MAX_PYRAMID_LEVELS];
+};
+
+struct CellRecord {
+  uint packedIjk;
+  uint info;  // configuration | projectionType << 8 | faceOrAxis << 16 | presentFaces << 24
+  uint firstLayer;
+  float point[3];
+};
+
+layout(std430, CR_BIND(1)) readonly buffer Models { ModelInfo models[]; };
+layout(std430, CR_BIND(2)) readonly buffer Cells { CellRecord cells[]; };
+layout(std430, CR_BIND(3)) readonly buffer Hash { uvec2 slots[]; };
+layout(std430, CR_BIND(4)) readonly buffer Pyramid { uint pyramidWords[]; };
+layout(std430, CR_BIND(5)) writeonly buffer FrameOut { uint frameWords[]; };
+
+layout(CR_BIND(6)) uniform usampler2DArray distanceAtlas;
+#ifdef CR_OCT_NORMALS
+layout(CR_BIND(7)) uniform usampler2DArray octNormalAtlas;
+#endif
+#ifdef CR_RGBA_NORMALS
+layout(CR_BIND(8)) uniform usampler2DArray rgbaNormalAtlas;
+#endif
+#ifdef CR_COLORS
+layout(CR_BIND(9)) uniform usampler2DArray colorAtlas;
+#endif
+
+// ---- the current model and cell (GLSL has no references: the search reads these) -------------
+
+int gModel;
+vec3 gOrigin;
+float gCellSize;
+int gGrid;
+int gTexels;
+float gDistanceScale;
+uint gEmptyCode;
+
+int gCell;         // index into cells[]
+uint gConfiguration;
+int gProjection;   // CR_PROJ_*
+int gFaceOrAxis;
+uint gPresent;
+int gFirstLayer;
+vec3 gPoint;
+uint gDomain;      // domain faces
+bool gInterior;
+bool gCentreInside;
+
+void selectModel(int m) {
+  gModel = m;
+  gOrigin = vec3(models[m].origin[0], models[m].origin[1], models[m].origin[2]);
+  gCellSize = models[m].cellSize;
+  gGrid = models[m].gridSize;
+  gTexels = models[m].texels;
+  gDistanceScale = models[m].distanceScale;
+  gEmptyCode = uint(models[m].emptyCode);
+}
+
+void selectCell(int index) {
+  gCell = index;
+  const uint info = cells[index].info;
+  gConfiguration = info & 0xffu;
+  gProjection = int((info >> 8) & 0xffu);
+  gFaceOrAxis = int((info >> 16) & 0xffu);
+  gPresent = (info >> 24) & 0xffu;
+  gFirstLayer = int(cells[index].firstLayer);
+  gPoint = vec3(cells[index].point[0], cells[index].point[1], cells[index].point[2]);
+  gInterior = gConfiguration == 0u;
+  gDomain = gInterior ? 63u : (gConfiguration & 63u);
+  gCentreInside = (cells[index].packedIjk & CR_CENTRE_INSIDE_BIT) != 0u;
+}
+
+// ---- the cell lookup (gpu_layout.h: cellHash, findCell) ---------------------------------------
+
+uint cellHash(uint k) {
+  k ^= k >> 16;
+  k *= 0x7feb352du;
+  k ^= k >> 15;
+  k *= 0x846ca68bu;
+  k ^= k >> 16;
+  return k;
+}
+
+int findCell(ivec3 c) {
+  const uint key = (uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20)) + 1u;
+  const uint mask = uint(models[gModel].hashMask);
+  const int offset = models[gModel].hashOffset;
+  uint h = cellHash(key) & mask;
+  for (;;) {
+    const uvec2 slot = slots[offset + int(h)];
+    if (slot.x == key) return int(slot.y);
+    if (slot.x == 0u) return -1;
+    h = (h + 1u) & mask;
+  }
+}
+
+// ---- faces and projections (projection/projections.h) -----------------------------------------
+
+int faceAxis(int face) { return face >> 1; }
+bool facePositive(int face) { return (face & 1) != 0; }
+int makeFace(int axis, bool positive) { return 2 * axis + (positive ? 1 : 0); }
+
+vec2 faceUV(int face, vec3 p) {
+  const int a = faceAxis(face);
+  return vec2(p[(a + 1) % 3], p[(a + 2) % 3]);
+}
+
+vec3 facePoint(int face, vec2 uv) {
+  const int a = faceAxis(face);
+  vec3 p;
+  p[a] = facePositive(face) ? 1.0 : 0.0;
+  p[(a + 1) % 3] = uv.x;
+  p[(a + 2) % 3] = uv.y;
+  return p;
+}
+
+vec3 faceNormal(int face) {
+  vec3 n = vec3(0.0);
+  n[faceAxis(face)] = facePositive(face) ? 1.0 : -1.0;
+  return n;
+}
+
+int firstFace(uint mask) { return findLSB(mask); }
+
+struct FacePoint {
+  int face;
+  vec2 uv;
+  float distance;
+};
+
+// detail::exitPoint
+FacePoint exitPoint(vec3 origin, vec3 w, vec3 p, int skipAxis) {
+  float best = CR_INF;
+  int face = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (a == skipAxis || w[a] == 0.0) continue;
+    const float bound = w[a] > 0.0 ? 1.0 : 0.0;
+    const float t = (bound - origin[a]) / w[a];
+    if (t < best) {
+      best = t;
+      face = makeFace(a, w[a] > 0.0);
+    }
+  }
+  vec3 hit = origin + best * w;
+  hit[faceAxis(face)] = facePositive(face) ? 1.0 : 0.0;
+  hit = clamp(hit, vec3(0.0), vec3(1.0));
+  return FacePoint(face, faceUV(face, hit), length(hit - p));
+}
+
+FacePoint projectParallel(vec3 p) {
+  const int face = gFaceOrAxis;
+  const float target = facePositive(face) ? 1.0 : 0.0;
+  return FacePoint(face, faceUV(face, p), abs(target - p[faceAxis(face)]));
+}
+
+FacePoint projectPlanar(vec3 p) {
+  const int axis = gFaceOrAxis;
+  const bool upper = p[axis] >= 0.5;
+  const int face = makeFace(axis, upper);
+  return FacePoint(face, faceUV(face, p), upper ? 1.0 - p[axis] : p[axis]);
+}
+
+FacePoint projectPerspective(vec3 p) {
+  const vec3 w = p - gPoint;
+  if (w == vec3(0.0)) {
+    const int f = firstFace(gDomain);
+    const vec3 centre = facePoint(f, vec2(0.5));
+    return FacePoint(f, faceUV(f, centre), length(centre - p));
+  }
+  return exitPoint(gPoint, w, p, -1);
+}
+
+vec3 axialFoot(vec3 p) {
+  vec3 q = gPoint;
+  q[gFaceOrAxis] = p[gFaceOrAxis];
+  return q;
+}
+
+FacePoint projectAxial(vec3 p) {
+  const vec3 q = axialFoot(p);
+  const vec3 w = p - q;
+  if (w == vec3(0.0)) {
+    const int f = firstFace(gDomain);
+    vec3 onFace = p;
+    onFace[faceAxis(f)] = facePositive(f) ? 1.0 : 0.0;
+    return FacePoint(f, faceUV(f, onFace), length(onFace - p));
+  }
+  return exitPoint(q, w, p, gFaceOrAxis);
+}
+
+// The projection of the current cell. A variant holds only the types its scene uses, so a scene
+// of one type has no switch at all.
+FacePoint project(vec3 p) {
+#if defined(CR_PARALLEL) && (defined(CR_PLANAR) || defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
+  if (gProjection == CR_PROJ_PARALLEL) return projectParallel(p);
+#elif defined(CR_PARALLEL)
+  return projectParallel(p);
+#endif
+#if defined(CR_PLANAR) && (defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
+  if (gProjection == CR_PROJ_PLANAR) return projectPlanar(p);
+#elif defined(CR_PLANAR)
+  return projectPlanar(p);
+#endif
+#if defined(CR_PERSPECTIVE) && defined(CR_AXIAL)
+  if (gProjection == CR_PROJ_PERSPECTIVE) return projectPerspective(p);
+  return projectAxial(p);
+#elif defined(CR_PERSPECTIVE)
+  return projectPerspective(p);
+#elif defined(CR_AXIAL)
+  return projectAxial(p);
+#endif
+#if !defined(CR_PARALLEL) && !defined(CR_PLANAR) && !defined(CR_PERSPECTIVE) && !defined(CR_AXIAL)
+  return FacePoint(-1, vec2(0.0), 0.0);
+#endif
+}
+
+vec3 unproject(int face, vec2 uv, float distance) {
+  const vec3 onFace = facePoint(face, uv);
+  if (gProjection == CR_PROJ_PERSPECTIVE) return onFace + distance * normalize(gPoint - onFace);
+  if (gProjection == CR_PROJ_AXIAL) return onFace + distance * normalize(axialFoot(onFace) - onFace);
+  return onFace - distance * faceNormal(face);
+}
+
+// ---- the maps (gpu_layout.h: the atlas) --------------------------------------------------------
+
+int layerOf(int face) {
+  if ((gPresent & (1u << face)) == 0u) return -1;
+  return gFirstLayer + bitCount(gPresent & ((1u << face) - 1u));
+}
+
+// The texel of sample (0, 0) of a model layer, and its array layer.
+ivec3 tileOrigin(int layer) {
+  const int perLayer = models[gModel].tilesPerLayer;
+  const int perRow = models[gModel].tilesPerRow;
+  const int r = layer % perLayer;
+  return ivec3((r % perRow) * gTexels, (r / perRow) * gTexels, models[gModel].layerBase + layer / perLayer);
+}
+
+uint sampleCode(ivec3 tile, int a, int b) {
+  return texelFetch(distanceAtlas, ivec3(tile.x + a, tile.y + b, tile.z), 0).r;
+}
+
+// ReliefTracer::stored: bilinear in the codes, false when a corner is empty.
+bool stored(int layer, vec2 uv, out float value) {
+  const float scale = float(gTexels - 1);
+  const float x = (uv.x > 0.0 ? min(uv.x, 1.0) : 0.0) * scale;
+  const float y = (uv.y > 0.0 ? min(uv.y, 1.0) : 0.0) * scale;
+  const int a0 = min(gTexels - 2, int(x)), b0 = min(gTexels - 2, int(y));
+  const float fx = x - float(a0), fy = y - float(b0);
+  const ivec3 tile = tileOrigin(layer);
+#ifdef CR_GATHER
+  // One gather of the 2 x 2 block: (x, y, z, w) = (a0, b0+1), (a0+1, b0+1), (a0+1, b0), (a0, b0).
+  const vec2 atlasSize = vec2(textureSize(distanceAtlas, 0).xy);
+  const uvec4 g = textureGather(distanceAtlas,
+                                vec3((vec2(tile.xy) + vec2(a0 + 1, b0 + 1)) / atlasSize, float(tile.z)), 0);
+  const uint c00 = g.w, c10 = g.z, c01 = g.x, c11 = g.y;
+#else
+  const uint c00 = sampleCode(tile, a0, b0);
+  const uint c10 = sampleCode(tile, a0 + 1, b0);
+  const uint c01 = sampleCode(tile, a0, b0 + 1);
+  const uint c11 = sampleCode(tile, a0 + 1, b0 + 1);
+#endif
+  if (c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode) return false;
+  const float top = float(c00) + fx * (float(c10) - float(c00));
+  const float bottom = float(c01) + fx * (float(c11) - float(c01));
+  value = (top + fy * (bottom - top)) * gDistanceScale;
+  return true;
+}
+
+// ReliefTracer::field: positive inside the object, negative outside.
+float field(vec3 p, out FacePoint fp) {
+  fp = project(clamp(p, vec3(0.0), vec3(1.0)));
+  const float emptyValue = gInterior && gCentreInside ? CR_EMPTY_FIELD : -CR_EMPTY_FIELD;
+  const int layer = layerOf(fp.face);
+  if (layer < 0) return emptyValue;
+  float s;
+  if (!stored(layer, fp.uv, s)) return emptyValue;
+  return gInterior && !gCentreInside ? s - fp.distance : fp.distance - s;
+}
+
+// ---- hits ----------------------------------------------------------------------------------------
+
+struct Hit {
+  float t;
+  int cell;   // -1: none
+  int face;
+  vec2 uv;
+  uint steps;
+};
+
+Hit noHit() { return Hit(CR_INF, -1, -1, vec2(0.0), 0u); }
+
+Hit makeHit(float t, FacePoint fp, uint steps) {
+  return Hit(t, gCell, fp.face, clamp(fp.uv, vec2(0.0), vec2(1.0)), steps);
+}
+
+// The ray in the current cell's unit coordinates.
+vec3 gLocalOrigin;
+vec3 gLocalDirection;
+vec3 localPoint(float t) { return gLocalOrigin + t * gLocalDirection; }
+
+// ---- linear + binary search (ReliefTracer::linearBinarySearch) --------------------------------
+
+Hit linearBinarySearch(float t0, float t1) {
+  FacePoint fp;
+  float fPrev = field(localPoint(t0), fp);
+  float footprint = 0.0;
+  FacePoint a = fp;
+  for (int k = 1; k <= CR_FOOTPRINT_PROBES; ++k) {
+    const FacePoint b = project(clamp(localPoint(t0 + (t1 - t0) * float(k) / float(CR_FOOTPRINT_PROBES)),
+                                      vec3(0.0), vec3(1.0)));
+    footprint += a.face == b.face ? length(b.uv - a.uv) : 1.0;
+    a = b;
+  }
+  // BalancedSearch::linearSteps
+  const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
+  const int linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
+  float tPrev = t0;
+  uint steps = 1u;
+  for (int i = 1; i <= linear; ++i) {
+    const float t = t0 + (t1 - t0) * float(i) / float(linear);
+    const float f = field(localPoint(t), fp);
+    ++steps;
+    if ((fPrev > 0.0) != (f > 0.0)) {
+      float lo = tPrev, hi = t, fLo = fPrev;
+      for (int k = 0; k < P.steps.z; ++k) {
+        const float mid = 0.5 * (lo + hi);
+        const float fm = field(localPoint(mid), fp);
+        ++steps;
+        if ((fm > 0.0) == (fLo > 0.0)) {
+          lo = mid;
+          fLo = fm;
+        } else {
+          hi = mid;
+        }
+      }
+      field(localPoint(hi), fp);
+      return makeHit(hi, fp, steps);
+    }
+    fPrev = f;
+    tPrev = t;
+  }
+  return noHit();
+}
+
+// ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
+
+#ifdef CR_SKIP
+uint pyramidCode(int layer, int level, int a, int b) {
+  const int index = models[gModel].pyramidOffset + layer * models[gModel].pyramidLayerStride +
+                    models[gModel].levelOffset[level] + b * models[gModel].levelSize[level] + a;
+  const uint word = pyramidWords[index >> 1];
+  return (index & 1) != 0 ? word >> 16 : word & 0xffffu;
+}
+
+float quadratic(float a, float b, float c, float s) { return (a * s + b) * s + c; }
+
+bool firstRoot(float a, float b, float c, float lo, float hi, out float root) {
+  const float fLo = quadratic(a, b, c, lo), fHi = quadratic(a, b, c, hi);
+  const bool signChange = (fLo > 0.0) != (fHi > 0.0);
+  bool bisect = false;
+  const float magnitude = abs(a) + abs(b) + abs(c);
+  if (abs(a) <= CR_QUADRATIC_EPSILON * max(magnitude, 1e-30)) {
+    if (b != 0.0) {
+      const float s = -c / b;
+      if (s >= lo && s <= hi) {
+        root = s;
+        return true;
+      }
+    } else if (c == 0.0) {
+      root = lo;
+      return true;
+    }
+    bisect = true;
+  } else {
+    const float disc = b * b - 4.0 * a * c;
+    if (disc < 0.0) {
+      bisect = true;
+    } else {
+      const float sq = sqrt(disc);
+      const float q = -0.5 * (b + (b < 0.0 ? -sq : sq));
+      float r0 = q / a, r1 = q != 0.0 ? c / q : r0;
+      if (r0 > r1) {
+        const float swap = r0;
+        r0 = r1;
+        r1 = swap;
+      }
+      if (r0 >= lo && r0 <= hi) {
+        root = r0;
+        return true;
+      }
+      if (r1 >= lo && r1 <= hi) {
+        root = r1;
+        return true;
+      }
+      bisect = true;
+    }
+  }
+  if (!bisect || !signChange) return false;
+  float l = lo, h = hi;
+  for (int i = 0; i < CR_ROOT_BISECTIONS; ++i) {
+    const float m = 0.5 * (l + h);
+    if ((quadratic(a, b, c, m) > 0.0) == (fLo > 0.0))
+      l = m;
+    else
+      h = m;
+  }
+  root = h;
+  return true;
+}
+
+float nudge(float v, float dv) {
+  return dv == 0.0 ? 0.0 : (dv > 0.0 ? 1.0 : -1.0) * CR_NUDGE_ULPS * CR_FLOAT_EPSILON * max(1.0, abs(v));
+}
+
+Hit skipHitAt(float sHit, float t0, float t1, int face, float depth0, float dDepth, float depthLimit,
+              uint steps) {
+  const float t = t0 + sHit * (t1 - t0);
+  const int axis = faceAxis(face);
+  const vec3 p = clamp(localPoint(t), vec3(0.0), vec3(1.0));
+  FacePoint fp = FacePoint(face, vec2(p[(axis + 1) % 3], p[(axis + 2) % 3]),
+                           clamp(depth0 + sHit * dDepth, 0.0, depthLimit));
+  return makeHit(t, fp, steps);
+}
+
+Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
+  const int layer = layerOf(face);
+  if (layer < 0 || !(t1 > t0)) return noHit();
+  const int axis = faceAxis(face), ua = (axis + 1) % 3, va = (axis + 2) % 3;
+  const float scale = float(gTexels - 1);
+  const vec3 p0 = localPoint(t0);
+  const vec3 dp = (t1 - t0) * gLocalDirection;
+  const bool upper = facePositive(face);
+  const float depth0 = upper ? 1.0 - p0[axis] : p0[axis];
+  const float dDepth = upper ? -dp[axis] : dp[axis];
+  const float x0 = p0[ua] * scale, dx = dp[ua] * scale;
+  const float y0 = p0[va] * scale, dy = dp[va] * scale;
+  const int top = models[gModel].pyramidLevels - 1;
+  const ivec3 tile = tileOrigin(layer);
+  int level = top;
+  float s = 0.0;
+  uint steps = 0u;
+  bool inside = false;
+  float d;
+  if (stored(layer, vec2(p0[ua], p0[va]), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
+  const float edge = float(models[gModel].levelSize[0]);
+  while (s < 1.0) {
+    ++steps;
+    const int size = 1 << level, nodes = models[gModel].levelSize[level];
+    const float x = x0 + s * dx, y = y0 + s * dy;
+    const int ix = clamp(int(floor((x + nudge(x, dx)) / float(size))), 0, nodes - 1);
+    const int iy = clamp(int(floor((y + nudge(y, dy)) / float(size))), 0, nodes - 1);
+    float sExit = 1.0;
+    if (dx != 0.0 && !(dx > 0.0 ? x >= edge : x <= 0.0))
+      sExit = min(sExit, (float(dx > 0.0 ? (ix + 1) * size : ix * size) - x0) / dx);
+    if (dy != 0.0 && !(dy > 0.0 ? y >= edge : y <= 0.0))
+      sExit = min(sExit, (float(dy > 0.0 ? (iy + 1) * size : iy * size) - y0) / dy);
+    sExit = max(sExit, s + CR_SKIP_PROGRESS);
+    uint code;
+    uint c00 = 0u, c10 = 0u, c01 = 0u, c11 = 0u;
+    if (level > 0) {
+      code = pyramidCode(layer, level, ix, iy);
+    } else {
+      c00 = sampleCode(tile, ix, iy);
+      c10 = sampleCode(tile, ix + 1, iy);
+      c01 = sampleCode(tile, ix, iy + 1);
+      c11 = sampleCode(tile, ix + 1, iy + 1);
+      code = c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode
+                 ? gEmptyCode
+                 : min(min(c00, c10), min(c01, c11));
+    }
+    const float deepest = max(clamp(depth0 + s * dDepth, 0.0, depthLimit),
+                              clamp(depth0 + min(sExit, 1.0) * dDepth, 0.0, depthLimit));
+    if (code >= gEmptyCode || deepest < float(code) * gDistanceScale) {
+      if (inside) return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
+      s = sExit;
+      level = min(level + 1, top);
+      continue;
+    }
+    if (level > 0) {
+      --level;
+      continue;
+    }
+    // A texel cell: depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
+    const float s1 = min(sExit, 1.0);
+    const float d00 = float(c00) * gDistanceScale, d10 = float(c10) * gDistanceScale;
+    const float d01 = float(c01) * gDistanceScale, d11 = float(c11) * gDistanceScale;
+    const float ax = x0 - float(ix), ay = y0 - float(iy);
+    const float e = d00 - d10 - d01 + d11;
+    const float q0 = d00 + (d10 - d00) * ax + (d01 - d00) * ay + e * ax * ay;
+    const float q1 = (d10 - d00) * dx + (d01 - d00) * dy + e * (ax * dy + ay * dx);
+    const float q2 = e * dx * dy;
+    const float qa = -q2, qb = dDepth - q1, qc = depth0 - q0;
+    if ((quadratic(qa, qb, qc, s) > 0.0) != inside)
+      return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
+    float root;
+    if (firstRoot(qa, qb, qc, s, s1, root))
+      return skipHitAt(root, t0, t1, face, depth0, dDepth, depthLimit, steps);
+    inside = quadratic(qa, qb, qc, s1) > 0.0;
+    s = sExit;
+    level = min(level + 1, top);
+  }
+  return noHit();
+}
+
+// ReliefTracer::skipSearch: a planar cell is two parallel half-cells.
+Hit skipSearch(float t0, float t1) {
+#ifdef CR_PARALLEL
+  if (gProjection == CR_PROJ_PARALLEL) return skipSearchFace(gFaceOrAxis, t0, t1, 1.0);
+#endif
+  const int axis = gFaceOrAxis;
+  const float o = gLocalOrigin[axis], d = gLocalDirection[axis];
+  const float tMid = d != 0.0 ? (0.5 - o) / d : CR_INF;
+  const bool startsUpper = o + t0 * d >= 0.5 && !(d < 0.0 && o + t0 * d == 0.5);
+  const int first = 2 * axis + (startsUpper ? 1 : 0);
+  if (!(tMid > t0 && tMid < t1)) {
+    const int face = 2 * axis + (o + 0.5 * (t0 + t1) * d >= 0.5 ? 1 : 0);
+    return skipSearchFace(face, t0, t1, 0.5);
+  }
+  const Hit hit = skipSearchFace(first, t0, tMid, 0.5);
+  if (hit.cell >= 0) return hit;
+  return skipSearchFace(first ^ 1, tMid, t1, 0.5);
+}
+#endif
+
+Hit searchInside(float t0, float t1) {
+#ifdef CR_SKIP
+  if ((gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
+      models[gModel].pyramidOffset >= 0)
+    return skipSearch(t0, t1);
+#endif
+  return linearBinarySearch(t0, t1);
+}
+
+// ---- the side carried across cell faces (ReliefTracer::searchCell) -----------------------------
+
+const int kSideUnknown = 0, kSideOutside = 1, kSideInside = 2;
+int gSide;
+float gExitField;
+
+Hit searchCell(float t0, float t1) {
+  FacePoint fp;
+  const float fIn = field(localPoint(t0), fp);
+  const float nearFace = CR_NEAR_FACE_SAMPLES / float(gTexels - 1);
+  const bool farIn = abs(fIn) > nearFace && abs(fIn) < CR_EMPTY_FIELD;
+  const bool farExit = abs(gExitField) > nearFace && abs(gExitField) < CR_EMPTY_FIELD;
+  if (gSide != kSideUnknown && (fIn > 0.0) != (gSide == kSideInside) && !(farIn && farExit))
+    return makeHit(t0, fp, 1u);
+  const Hit hit = searchInside(t0, t1);
+  if (hit.cell < 0) {
+    const float fOut = field(localPoint(t1), fp);
+    gSide = fOut > 0.0 ? kSideInside : kSideOutside;
+    gExitField = abs(fOut);
+  }
+  return hit;
+}
+
+// ---- the DDA over the grid (ReliefTracer::trace) -------------------------------------------------
+
+// The slab test of core/aabb.h, widened by 2 gamma(3) at the far end.
+bool gridSpan(vec3 o, vec3 d, float tmin, float tmax, out float t0, out float t1) {
+  const vec3 lo = gOrigin, hi = gOrigin + vec3(gCellSize * float(gGrid));
+  t0 = tmin;
+  t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return false;
+      continue;
+    }
+    const float inv = 1.0 / d[a];
+    float tNear = (lo[a] - o[a]) * inv, tFar = (hi[a] - o[a]) * inv;
+    if (tNear > tFar) {
+      const float swap = tNear;
+      tNear = tFar;
+      tFar = swap;
+    }
+    tFar *= 1.0 + 2.0 * CR_GAMMA3;
+    t0 = tNear > t0 ? tNear : t0;
+    t1 = tFar < t1 ? tFar : t1;
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
+  if (any(isinf(o)) || any(isnan(o)) || any(isinf(d)) || any(isnan(d)) || d == vec3(0.0) || !(tmin <= tmax))
+    return noHit();
+  float tStart, tEnd;
+  if (!gridSpan(o, d, tmin, tmax, tStart, tEnd)) return noHit();
+  const int n = gGrid;
+  const float h = gCellSize;
+  const vec3 entry = (o + tStart * d - gOrigin) / h;
+  ivec3 cell = clamp(ivec3(floor(entry)), ivec3(0), ivec3(n - 1));
+  ivec3 stepDir = ivec3(0);
+  vec3 tMax = vec3(CR_INF), tDelta = vec3(CR_INF);
+  for (int a = 0; a < 3; ++a) {
+    const float inverse = 1.0 / d[a];
+    if (d[a] == 0.0 || isinf(inverse)) continue;
+    if (d[a] > 0.0) {
+      stepDir[a] = 1;
+      tMax[a] = (float(cell[a] + 1) * h + gOrigin[a] - o[a]) * inverse;
+      tDelta[a] = h * inverse;
+    } else {
+      stepDir[a] = -1;
+      tMax[a] = (float(cell[a]) * h + gOrigin[a] - o[a]) * inverse;
+      tDelta[a] = -h * inverse;
+    }
+  }
+  gSide = tStart > tmin ? kSideOutside : kSideUnknown;
+  gExitField = CR_INF;
+  float tCell = tStart;
+  for (;;) {
+    const float tExit = min(min(tMax.x, tMax.y), min(tMax.z, tEnd));
+    const int index = findCell(cell);
+    if (index >= 0) {
+      selectCell(index);
+      const vec3 cellOrigin = gOrigin + vec3(cell) * h;
+      gLocalOrigin = (o - cellOrigin) / h;
+      gLocalDirection = d / h;
+      const Hit hit = searchCell(tCell, tExit);
+      if (hit.cell >= 0) return hit;
+    } else {
+      gExitField = CR_INF;
+    }
+    if (tExit >= tEnd) break;
+    const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
+    cell[axis] += stepDir[axis];
+    if (cell[axis] < 0 || cell[axis] >= n) break;
+    tCell = tMax[axis];
+    tMax[axis] += tDelta[axis];
+  }
+  return noHit();
+}
+
+// The nearest hit over the scene's models (CpuBackend::intersect); leaves that model selected.
+Hit traceScene(vec3 o, vec3 d, out int hitModel) {
+  Hit best = noHit();
+  hitModel = -1;
+  for (int m = 0; m < P.size.z; ++m) {
+    selectModel(m);
+    const Hit h = traceModel(o, d, 0.0, best.cell >= 0 ? best.t : CR_INF);
+    if (h.cell >= 0 && (best.cell < 0 || h.t < best.t)) {
+      best = h;
+      hitModel = m;
+    }
+  }
+  if (hitModel >= 0) selectModel(hitModel);
+  return best;
+}
+
+bool occludedScene(vec3 o, vec3 d) {
+  for (int m = 0; m < P.size.z; ++m) {
+    selectModel(m);
+    if (traceModel(o, d, 0.0, CR_INF).cell >= 0) return true;
+  }
+  return false;
+}
+
+// ---- shading (ReliefTracer::shade, CpuBackend::shade) ------------------------------------------
+
+float sampleDistance(int layer, int a, int b, out bool filled) {
+  const uint code = sampleCode(tileOrigin(layer), a, b);
+  filled = code != gEmptyCode;
+  return float(code) / float(gEmptyCode - 1u) * models[gModel].distanceMax;
+}
+
+// The unprojected sample (x, y) of the current cell's face, false where out of range or empty.
+bool samplePoint(int face, int layer, int x, int y, out vec3 point) {
+  if (x < 0 || y < 0 || x >= gTexels || y >= gTexels) return false;
+  bool filled;
+  const float d = sampleDistance(layer, x, y, filled);
+  if (!filled) return false;
+  point = unproject(face, vec2(float(x), float(y)) / float(gTexels - 1), d);
+  return true;
+}
+
+bool sampleDerivative(int face, int layer, int a, int b, int dx, int dy, bool haveCentre, vec3 centre,
+                      out vec3 derivative) {
+  vec3 plus, minus;
+  const bool hasPlus = samplePoint(face, layer, a + dx, b + dy, plus);
+  const bool hasMinus = samplePoint(face, layer, a - dx, b - dy, minus);
+  if (hasPlus && hasMinus) {
+    derivative = plus - minus;
+    return true;
+  }
+  if (hasPlus && haveCentre) {
+    derivative = plus - centre;
+    return true;
+  }
+  if (hasMinus && haveCentre) {
+    derivative = centre - minus;
+    return true;
+  }
+  return false;
+}
+
+// Shading normal and color of a hit (the hit's cell and model are selected).
+void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
+  normal = vec3(0.0);
+  color = vec3(200.0 / 255.0);
+  const int layer = layerOf(hit.face);
+  if (layer >= 0) {
+    const ivec3 tile = tileOrigin(layer);
+    const vec2 texel = hit.uv * float(gTexels - 1);
+    int a = clamp(int(floor(texel.x + 0.5)), 0, gTexels - 1);
+    int b = clamp(int(floor(texel.y + 0.5)), 0, gTexels - 1);
+    if (sampleCode(tile, a, b) == gEmptyCode) {
+      int best = 0x7fffffff, bestA = a, bestB = b;
+      const int radius = CR_SHADE_SEARCH_RADIUS;
+      for (int y = max(0, b - radius); y <= min(gTexels - 1, b + radius); ++y)
+        for (int x = max(0, a - radius); x <= min(gTexels - 1, a + radius); ++x) {
+          const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
+          if (d2 < best && sampleCode(tile, x, y) != gEmptyCode) {
+            best = d2;
+            bestA = x;
+            bestB = y;
+          }
+        }
+      a = bestA;
+      b = bestB;
+    }
+    const ivec3 at = ivec3(tile.x + a, tile.y + b, tile.z);
+    const int normalFormat = models[gModel].normalFormat;
+    if (normalFormat == CR_NORMALS_NONE) {
+      vec3 centre;
+      const bool haveCentre = samplePoint(hit.face, layer, a, b, centre);
+      vec3 du, dv;
+      vec3 n = vec3(0.0);
+      if (sampleDerivative(hit.face, layer, a, b, 1, 0, haveCentre, centre, du) &&
+          sampleDerivative(hit.face, layer, a, b, 0, 1, haveCentre, centre, dv))
+        n = cross(du, dv);
+      if (!facePositive(hit.face)) n = -n;
+      if (gInterior && !gCentreInside) n = -n;
+      normal = length(n) > 0.0 ? normalize(n) : vec3(0.0);
+    }
+#ifdef CR_OCT_NORMALS
+    if (normalFormat == CR_NORMALS_OCT) {
+      // octahedralDecode of relief_model.h
+      vec2 e = vec2(texelFetch(octNormalAtlas, at, 0).rg) / 65535.0;
+      e = e * 2.0 - 1.0;
+      vec3 n = vec3(e.x, e.y, 1.0 - abs(e.x) - abs(e.y));
+      const float t = max(-n.z, 0.0);
+      n.x += n.x >= 0.0 ? -t : t;
+      n.y += n.y >= 0.0 ? -t : t;
+      normal = normalize(n);
+    }
+#endif
+#ifdef CR_RGBA_NORMALS
+    if (normalFormat == CR_NORMALS_RGBA)
+      normal = normalize(vec3(texelFetch(rgbaNormalAtlas, at, 0).rgb) / 255.0 * 2.0 - 1.0);
+#endif
+#ifdef CR_COLORS
+    if (models[gModel].colorFormat == CR_COLORS_RGBA) color = vec3(texelFetch(colorAtlas, at, 0).rgb) / 255.0;
+#endif
+  }
+  if (normal == vec3(0.0)) normal = -normalize(direction);
+}
+
+vec3 facing(vec3 n, vec3 direction) { return dot(n, direction) > 0.0 ? -n : n; }
+
+float surfaceOffset() { return CR_SURFACE_OFFSET_SAMPLES * gCellSize / float(max(1, gTexels - 1)); }
+
+// Ambient plus Lambert over the lights, each gated by a shadow ray (the hit's model selected).
+vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
+  const float offset = surfaceOffset();
+  vec3 light = P.ambient.rgb;
+  for (int i = 0; i < P.size.w; ++i) {
+    const vec3 towards = P.lights[i].direction.xyz;
+    const float lambert = dot(normal, towards);
+    if (lambert <= 0.0) continue;
+#ifdef CR_SHADOWS
+    if (P.flags.x != 0) {
+      const int keep = gModel;
+      const bool blocked = occludedScene(position + offset * normal, towards);
+      selectModel(keep);
+      if (blocked) continue;
+    }
+#endif
+    light += P.lights[i].color.rgb * lambert;
+  }
+  return base * light;
+}
+
+// ---- one pixel -----------------------------------------------------------------------------------
+
+void main() {
+  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  const int width = P.size.x, height = P.size.y;
+  if (pixel.x >= width || pixel.y >= height) return;
+  const int index = pixel.y * width + pixel.x;
+  // Camera::primaryRay
+  const float sx = (2.0 * (float(pixel.x) + 0.5) / float(width) - 1.0);
+  const float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / float(height));
+  const vec3 eye = P.eye.xyz;
+  const vec3 direction = normalize(P.forward.xyz + sx * P.right.xyz + sy * P.up.xyz);
+  int model;
+  const Hit hit = traceScene(eye, direction, model);
+  if (hit.cell < 0) {
+#ifdef CR_OUT_COLOR
+    const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
+    frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
+#endif
+#ifdef CR_OUT_DEPTH
+    frameWords[P.flags.w + index] = floatBitsToUint(CR_INF);
+#endif
+#ifdef CR_OUT_NORMAL
+    for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = 0u;
+#endif
+#ifdef CR_OUT_MASK
+    frameWords[P.offsets.y + index] = 0u;
+#endif
+    return;
+  }
+  selectCell(hit.cell);
+  vec3 shadingNormal, base;
+  shadeHit(hit, direction, shadingNormal, base);
+  const vec3 n = facing(shadingNormal, direction);
+#ifdef CR_OUT_DEPTH
+  frameWords[P.flags.w + index] = floatBitsToUint(hit.t);
+#endif
+#ifdef CR_OUT_NORMAL
+  for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = floatBitsToUint(n[c]);
+#endif
+#ifdef CR_OUT_MASK
+  frameWords[P.offsets.y + index] = 1u;
+#endif
+#ifdef CR_OUT_COLOR
+  // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.
+  vec3 position = eye + hit.t * direction;
+  vec3 normalK = n;
+  vec3 baseK = base;
+  vec3 rayDirection = direction;
+  vec3 result = vec3(0.0);
+  float weight = 1.0;
+  for (int bounce = 0;; ++bounce) {
+    const vec3 local = shadeLocal(position, normalK, baseK);
+#ifdef CR_REFLECTIONS
+    if (bounce < P.steps.w) {
+      const float r = P.tuning.y;
+      result += weight * (1.0 - r) * local;
+      weight *= r;
+      const vec3 mirrorDirection = reflect(normalize(rayDirection), normalK);
+      const vec3 mirrorOrigin = position + surfaceOffset() * normalK;
+      int next;
+      const Hit h = traceScene(mirrorOrigin, mirrorDirection, next);
+      if (h.cell < 0) {
+        result += weight * P.background.rgb;
+        break;
+      }
+      selectCell(h.cell);
+      vec3 nextNormal;
+      shadeHit(h, mirrorDirection, nextNormal, baseK);
+      normalK = facing(nextNormal, mirrorDirection);
+      position = mirrorOrigin + h.t * mirrorDirection;
+      rayDirection = mirrorDirection;
+      continue;
+    }
+#endif
+    result += weight * local;
+    break;
+  }
+  const vec3 c = clamp(result, vec3(0.0), vec3(1.0));
+  const uvec3 display = uvec3(floor(255.0 * pow(c, vec3(1.0 / 2.2)) + 0.5));
+  frameWords[P.flags.z + index] = display.r | (display.g << 8) | (display.b << 16) | (255u << 24);
+#endif
+}

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+// The GPU layout (gpu/gpu_layout.h) without a GPU: the hash lookup finds every grey cell and
+// nothing else, the atlas holds every sample of every layer where the shader reads it, a model
+// with more face layers than a device has array layers still fits, and a scene beyond the
+// limits is refused with an error that names the model and the limit.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include <cellrelief/core/procedural.h>
+#include <cellrelief/gpu/gpu_layout.h>
+#include <cellrelief/gpu/shader_preamble.h>
+#include <cellrelief/relief/convert.h>
+
+namespace cellrelief::gpu {
+namespace {
+
+std::shared_ptr<const relief::ReliefModel> torusModel(int grid, int texels) {
+  return std::make_shared<relief::ReliefModel>(
+      relief::convert(makeTorus(1.0f, 0.35f, 96, 48), {.gridSize = grid, .texels = texels}));
+}
+
+TEST(GpuLayout, TheHashLookupFindsEveryGreyCellAndNothingElse) {
+  const auto model = torusModel(16, 9);
+  const GpuScene gpu = packScene(render::Scene::of(model), {}, true);
+  std::set<std::uint32_t> grey;
+  int worstProbes = 0;
+  for (std::size_t i = 0; i < model->cells.size(); ++i) {
+    int probes = 0;
+    EXPECT_EQ(findCell(gpu, 0, model->cells[i].ijk(), &probes), int(i));
+    worstProbes = std::max(worstProbes, probes);
+    grey.insert(relief::CellRecord::packIjk(model->cells[i].ijk()));
+  }
+  int misses = 0;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i)
+        if (!grey.count(relief::CellRecord::packIjk({i, j, k}))) {
+          EXPECT_EQ(findCell(gpu, 0, {i, j, k}), -1);
+          ++misses;
+        }
+  EXPECT_GT(misses, 0);
+  // Load factor <= 1/2: memory in proportion to the grey cells, short probe sequences.
+  EXPECT_LE(gpu.hashSlots.size() / 2, std::max<std::size_t>(16, 4 * model->cells.size()));
+  EXPECT_LT(worstProbes, 32);
+}
+
+TEST(GpuLayout, EverySampleLiesInItsTileWhereTheShaderReadsIt) {
+  const auto model = torusModel(8, 17);
+  DeviceLimits limits;
+  limits.maxTextureSize = 128;  // forces several rows and array layers
+  const GpuScene gpu = packScene(render::Scene::of(model), limits, true);
+  const ModelInfo& info = gpu.models[0];
+  ASSERT_GT(gpu.distances.layers, 1);
+  EXPECT_LE(gpu.distances.width, 128);
+  for (int layer = 0; layer < model->layerCount(); ++layer) {
+    const int r = layer % info.tilesPerLayer;
+    const int x0 = (r % info.tilesPerRow) * model->texels, y0 = (r / info.tilesPerRow) * model->texels;
+    const int z = info.layerBase + layer / info.tilesPerLayer;
+    ASSERT_LT(z, gpu.distances.layers);
+    for (int b = 0; b < model->texels; ++b)
+      for (int a = 0; a < model->texels; ++a) {
+        const std::size_t texel =
+            (std::size_t(z) * gpu.distances.height + std::size_t(y0 + b)) * gpu.distances.width + std::size_t(x0 + a);
+        ASSERT_EQ(gpu.distances.texels[texel], model->distanceCode(layer, a, b)) << layer << " " << a << " " << b;
+      }
+  }
+}
+
+TEST(GpuLayout, MoreFaceLayersThanTheDeviceHasArrayLayersStillFit) {
+  const auto model = torusModel(32, 9);
+  DeviceLimits limits;
+  limits.maxArrayLayers = 16;
+  ASSERT_GT(model->layerCount(), limits.maxArrayLayers);
+  const GpuScene gpu = packScene(render::Scene::of(model), limits, true);
+  EXPECT_LE(gpu.distances.layers, 16);
+  EXPECT_GE(std::size_t(gpu.distances.width) * gpu.distances.height * gpu.distances.layers,
+            std::size_t(model->layerCount()) * 81);
+}
+
+TEST(GpuLayout, AScenePastTheLimitsIsRefusedWithTheModelAndTheLimitNamed) {
+  const auto model = torusModel(32, 9);
+  DeviceLimits limits;
+  limits.maxTextureSize = 64;
+  limits.maxArrayLayers = 2;
+  try {
+    packScene(render::Scene::of(model), limits, true);
+    FAIL() << "a scene past the device's limits was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::ResourceLimit);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("scene model 0"), std::string::npos) << what;
+    EXPECT_NE(what.find("beyond the device's 2"), std::string::npos) << what;
+  }
+  limits = {};
+  limits.maxTotalBytes = 1000;
+  EXPECT_THROW(packScene(render::Scene::of(model), limits, true), Error);
+}
+
+TEST(ShaderPreamble, TheConstantsComeFromTheCppValues) {
+  const std::string constants = traversalConstants();
+  EXPECT_NE(constants.find("#define CR_EMPTY_FIELD (4.000000000e+00)"), std::string::npos) << constants;
+  EXPECT_NE(constants.find("#define CR_CENTRE_INSIDE_BIT " + std::to_string(relief::CellRecord::kCentreInside) + "u"),
+            std::string::npos);
+  // The GLSL body uses the names, never the values: no literal of a shared constant is typed there.
+  const std::string body(kReliefTraceComp);
+  for (const char* name : {"CR_EMPTY_FIELD", "CR_NEAR_FACE_SAMPLES", "CR_FOOTPRINT_PROBES", "CR_SKIP_PROGRESS",
+                           "CR_ROOT_BISECTIONS", "CR_QUADRATIC_EPSILON", "CR_SHADE_SEARCH_RADIUS",
+                           "CR_SURFACE_OFFSET_SAMPLES", "CR_GAMMA3", "CR_CENTRE_INSIDE_BIT"}) {
+    EXPECT_NE(body.find(name), std::string::npos) << name << " is not used by the shader";
+    EXPECT_EQ(body.find(std::string("#define ") + name), std::string::npos) << name << " is redefined in the shader";
+  }
+}
+
+TEST(ShaderPreamble, AVariantHoldsOnlyWhatTheSceneUses) {
+  SceneFeatures perspectiveOnly;
+  perspectiveOnly.perspective = true;
+  const ShaderVariant v = ShaderVariant::specialized(perspectiveOnly, true, true, false, render::kColor);
+  const std::string defines = variantDefines(v);
+  EXPECT_NE(defines.find("CR_PERSPECTIVE"), std::string::npos);
+  for (const char* absent : {"CR_PARALLEL", "CR_PLANAR", "CR_AXIAL", "CR_SKIP", "CR_OCT_NORMALS", "CR_COLORS",
+                             "CR_REFLECTIONS", "CR_OUT_DEPTH"})
+    EXPECT_EQ(defines.find(absent), std::string::npos) << absent;
+  EXPECT_NE(defines.find("CR_SHADOWS"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cellrelief::gpu
