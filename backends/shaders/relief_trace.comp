@@ -55,6 +55,8 @@ struct ModelInfo {
   int layerBase;
   int tilesPerRow;
   int tilesPerLayer;
+  int tileRowShift;
+  int tileLayerShift;
   int emptyCode;
   int normalFormat;
   int colorFormat;
@@ -62,7 +64,7 @@ struct ModelInfo {
   int pyramidLevels;
   int pyramidLayerStride;
   int layerCount;
-  int pad1;
+  int pad1[3];
   int levelSize[CR_MAX_PYRAMID_LEVELS];
   int levelOffset[CR_MAX_PYRAMID_LEVELS];
 };
@@ -100,6 +102,21 @@ int gGrid;
 int gTexels;
 float gDistanceScale;
 uint gEmptyCode;
+// Copies of the model's fields: in llvmpipe every read of a storage buffer by a non-constant
+// index is a per-lane gather, so the inner loops read these instead.
+int gHashOffset;
+uint gHashMask;
+int gLayerBase;
+int gTileRowMask;
+int gTileLayerMask;
+int gTileRowShift;
+int gTileLayerShift;
+int gNormalFormat;
+int gColorFormat;
+float gDistanceMax;
+int gPyramidOffset;
+int gPyramidLevels;
+int gPyramidLayerStride;
 
 int gCell;         // index into cells[]
 uint gConfiguration;
@@ -120,6 +137,19 @@ void selectModel(int m) {
   gTexels = models[m].texels;
   gDistanceScale = models[m].distanceScale;
   gEmptyCode = uint(models[m].emptyCode);
+  gHashOffset = models[m].hashOffset;
+  gHashMask = uint(models[m].hashMask);
+  gLayerBase = models[m].layerBase;
+  gTileRowMask = models[m].tilesPerRow - 1;
+  gTileLayerMask = models[m].tilesPerLayer - 1;
+  gTileRowShift = models[m].tileRowShift;
+  gTileLayerShift = models[m].tileLayerShift;
+  gNormalFormat = models[m].normalFormat;
+  gColorFormat = models[m].colorFormat;
+  gDistanceMax = models[m].distanceMax;
+  gPyramidOffset = models[m].pyramidOffset;
+  gPyramidLevels = models[m].pyramidLevels;
+  gPyramidLayerStride = models[m].pyramidLayerStride;
 }
 
 void selectCell(int index) {
@@ -149,41 +179,40 @@ uint cellHash(uint k) {
 
 int findCell(ivec3 c) {
   const uint key = (uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20)) + 1u;
-  const uint mask = uint(models[gModel].hashMask);
-  const int offset = models[gModel].hashOffset;
-  uint h = cellHash(key) & mask;
+  uint h = cellHash(key) & gHashMask;
   for (;;) {
-    const uvec2 slot = slots[offset + int(h)];
+    const uvec2 slot = slots[gHashOffset + int(h)];
     if (slot.x == key) return int(slot.y);
     if (slot.x == 0u) return -1;
-    h = (h + 1u) & mask;
+    h = (h + 1u) & gHashMask;
   }
 }
 
 // ---- faces and projections (projection/projections.h) -----------------------------------------
 
 int faceAxis(int face) { return face >> 1; }
+// Components by a variable axis, and the next axis, as selects: llvmpipe turns a variable
+// index into a vector (or a modulo) into per-lane scalar code.
+int nextAxis(int a) { return a == 2 ? 0 : a + 1; }
+float axisOf(vec3 v, int a) { return a == 0 ? v.x : (a == 1 ? v.y : v.z); }
+vec3 withAxis(vec3 v, int a, float x) { return vec3(a == 0 ? x : v.x, a == 1 ? x : v.y, a == 2 ? x : v.z); }
 bool facePositive(int face) { return (face & 1) != 0; }
 int makeFace(int axis, bool positive) { return 2 * axis + (positive ? 1 : 0); }
 
 vec2 faceUV(int face, vec3 p) {
-  const int a = faceAxis(face);
-  return vec2(p[(a + 1) % 3], p[(a + 2) % 3]);
+  const int u = nextAxis(faceAxis(face));
+  return vec2(axisOf(p, u), axisOf(p, nextAxis(u)));
 }
 
 vec3 facePoint(int face, vec2 uv) {
-  const int a = faceAxis(face);
-  vec3 p;
-  p[a] = facePositive(face) ? 1.0 : 0.0;
-  p[(a + 1) % 3] = uv.x;
-  p[(a + 2) % 3] = uv.y;
-  return p;
+  const int a = faceAxis(face), u = nextAxis(a);
+  vec3 p = withAxis(vec3(0.0), a, facePositive(face) ? 1.0 : 0.0);
+  p = withAxis(p, u, uv.x);
+  return withAxis(p, nextAxis(u), uv.y);
 }
 
 vec3 faceNormal(int face) {
-  vec3 n = vec3(0.0);
-  n[faceAxis(face)] = facePositive(face) ? 1.0 : -1.0;
-  return n;
+  return withAxis(vec3(0.0), faceAxis(face), facePositive(face) ? 1.0 : -1.0);
 }
 
 int firstFace(uint mask) { return findLSB(mask); }
@@ -207,8 +236,7 @@ FacePoint exitPoint(vec3 origin, vec3 w, vec3 p, int skipAxis) {
       face = makeFace(a, w[a] > 0.0);
     }
   }
-  vec3 hit = origin + best * w;
-  hit[faceAxis(face)] = facePositive(face) ? 1.0 : 0.0;
+  vec3 hit = withAxis(origin + best * w, faceAxis(face), facePositive(face) ? 1.0 : 0.0);
   hit = clamp(hit, vec3(0.0), vec3(1.0));
   return FacePoint(face, faceUV(face, hit), length(hit - p));
 }
@@ -216,14 +244,15 @@ FacePoint exitPoint(vec3 origin, vec3 w, vec3 p, int skipAxis) {
 FacePoint projectParallel(vec3 p) {
   const int face = gFaceOrAxis;
   const float target = facePositive(face) ? 1.0 : 0.0;
-  return FacePoint(face, faceUV(face, p), abs(target - p[faceAxis(face)]));
+  return FacePoint(face, faceUV(face, p), abs(target - axisOf(p, faceAxis(face))));
 }
 
 FacePoint projectPlanar(vec3 p) {
   const int axis = gFaceOrAxis;
-  const bool upper = p[axis] >= 0.5;
+  const float x = axisOf(p, axis);
+  const bool upper = x >= 0.5;
   const int face = makeFace(axis, upper);
-  return FacePoint(face, faceUV(face, p), upper ? 1.0 - p[axis] : p[axis]);
+  return FacePoint(face, faceUV(face, p), upper ? 1.0 - x : x);
 }
 
 FacePoint projectPerspective(vec3 p) {
@@ -237,9 +266,7 @@ FacePoint projectPerspective(vec3 p) {
 }
 
 vec3 axialFoot(vec3 p) {
-  vec3 q = gPoint;
-  q[gFaceOrAxis] = p[gFaceOrAxis];
-  return q;
+  return withAxis(gPoint, gFaceOrAxis, axisOf(p, gFaceOrAxis));
 }
 
 FacePoint projectAxial(vec3 p) {
@@ -247,8 +274,7 @@ FacePoint projectAxial(vec3 p) {
   const vec3 w = p - q;
   if (w == vec3(0.0)) {
     const int f = firstFace(gDomain);
-    vec3 onFace = p;
-    onFace[faceAxis(f)] = facePositive(f) ? 1.0 : 0.0;
+    const vec3 onFace = withAxis(p, faceAxis(f), facePositive(f) ? 1.0 : 0.0);
     return FacePoint(f, faceUV(f, onFace), length(onFace - p));
   }
   return exitPoint(q, w, p, gFaceOrAxis);
@@ -296,10 +322,9 @@ int layerOf(int face) {
 
 // The texel of sample (0, 0) of a model layer, and its array layer.
 ivec3 tileOrigin(int layer) {
-  const int perLayer = models[gModel].tilesPerLayer;
-  const int perRow = models[gModel].tilesPerRow;
-  const int r = layer % perLayer;
-  return ivec3((r % perRow) * gTexels, (r / perRow) * gTexels, models[gModel].layerBase + layer / perLayer);
+  // Tiles per row and per array layer are powers of two: shifts and masks, no division.
+  const int r = layer & gTileLayerMask;
+  return ivec3((r & gTileRowMask) * gTexels, (r >> gTileRowShift) * gTexels, gLayerBase + (layer >> gTileLayerShift));
 }
 
 uint sampleCode(ivec3 tile, int a, int b) {
@@ -412,9 +437,13 @@ Hit linearBinarySearch(float t0, float t1) {
 // ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
 
 #ifdef CR_SKIP
+// Nodes per side at a level: level 0 has T - 1, each level above halves it rounding up
+// (EmptySpacePyramid), which is ceil((T - 1) / 2^level).
+int pyramidSize(int level) { return ((gTexels - 2) >> level) + 1; }
+
 uint pyramidCode(int layer, int level, int a, int b) {
-  const int index = models[gModel].pyramidOffset + layer * models[gModel].pyramidLayerStride +
-                    models[gModel].levelOffset[level] + b * models[gModel].levelSize[level] + a;
+  const int index = gPyramidOffset + layer * gPyramidLayerStride +
+                    models[gModel].levelOffset[level] + b * pyramidSize(level) + a;
   const uint word = pyramidWords[index >> 1];
   return (index & 1) != 0 ? word >> 16 : word & 0xffffu;
 }
@@ -482,9 +511,8 @@ float nudge(float v, float dv) {
 Hit skipHitAt(float sHit, float t0, float t1, int face, float depth0, float dDepth, float depthLimit,
               uint steps) {
   const float t = t0 + sHit * (t1 - t0);
-  const int axis = faceAxis(face);
   const vec3 p = clamp(localPoint(t), vec3(0.0), vec3(1.0));
-  FacePoint fp = FacePoint(face, vec2(p[(axis + 1) % 3], p[(axis + 2) % 3]),
+  FacePoint fp = FacePoint(face, faceUV(face, p),
                            clamp(depth0 + sHit * dDepth, 0.0, depthLimit));
   return makeHit(t, fp, steps);
 }
@@ -492,27 +520,27 @@ Hit skipHitAt(float sHit, float t0, float t1, int face, float depth0, float dDep
 Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
   const int layer = layerOf(face);
   if (layer < 0 || !(t1 > t0)) return noHit();
-  const int axis = faceAxis(face), ua = (axis + 1) % 3, va = (axis + 2) % 3;
+  const int axis = faceAxis(face), ua = nextAxis(axis), va = nextAxis(ua);
   const float scale = float(gTexels - 1);
   const vec3 p0 = localPoint(t0);
   const vec3 dp = (t1 - t0) * gLocalDirection;
   const bool upper = facePositive(face);
-  const float depth0 = upper ? 1.0 - p0[axis] : p0[axis];
-  const float dDepth = upper ? -dp[axis] : dp[axis];
-  const float x0 = p0[ua] * scale, dx = dp[ua] * scale;
-  const float y0 = p0[va] * scale, dy = dp[va] * scale;
-  const int top = models[gModel].pyramidLevels - 1;
+  const float depth0 = upper ? 1.0 - axisOf(p0, axis) : axisOf(p0, axis);
+  const float dDepth = upper ? -axisOf(dp, axis) : axisOf(dp, axis);
+  const float x0 = axisOf(p0, ua) * scale, dx = axisOf(dp, ua) * scale;
+  const float y0 = axisOf(p0, va) * scale, dy = axisOf(dp, va) * scale;
+  const int top = gPyramidLevels - 1;
   const ivec3 tile = tileOrigin(layer);
   int level = top;
   float s = 0.0;
   uint steps = 0u;
   bool inside = false;
   float d;
-  if (stored(layer, vec2(p0[ua], p0[va]), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
-  const float edge = float(models[gModel].levelSize[0]);
+  if (stored(layer, vec2(axisOf(p0, ua), axisOf(p0, va)), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
+  const float edge = float(gTexels - 1);
   while (s < 1.0) {
     ++steps;
-    const int size = 1 << level, nodes = models[gModel].levelSize[level];
+    const int size = 1 << level, nodes = pyramidSize(level);
     const float x = x0 + s * dx, y = y0 + s * dy;
     const int ix = clamp(int(floor((x + nudge(x, dx)) / float(size))), 0, nodes - 1);
     const int iy = clamp(int(floor((y + nudge(y, dy)) / float(size))), 0, nodes - 1);
@@ -575,7 +603,7 @@ Hit skipSearch(float t0, float t1) {
   if (gProjection == CR_PROJ_PARALLEL) return skipSearchFace(gFaceOrAxis, t0, t1, 1.0);
 #endif
   const int axis = gFaceOrAxis;
-  const float o = gLocalOrigin[axis], d = gLocalDirection[axis];
+  const float o = axisOf(gLocalOrigin, axis), d = axisOf(gLocalDirection, axis);
   const float tMid = d != 0.0 ? (0.5 - o) / d : CR_INF;
   const bool startsUpper = o + t0 * d >= 0.5 && !(d < 0.0 && o + t0 * d == 0.5);
   const int first = 2 * axis + (startsUpper ? 1 : 0);
@@ -592,7 +620,7 @@ Hit skipSearch(float t0, float t1) {
 Hit searchInside(float t0, float t1) {
 #ifdef CR_SKIP
   if ((gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
-      models[gModel].pyramidOffset >= 0)
+      gPyramidOffset >= 0)
     return skipSearch(t0, t1);
 #endif
   return linearBinarySearch(t0, t1);
@@ -690,10 +718,12 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
     }
     if (tExit >= tEnd) break;
     const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
-    cell[axis] += stepDir[axis];
-    if (cell[axis] < 0 || cell[axis] >= n) break;
-    tCell = tMax[axis];
-    tMax[axis] += tDelta[axis];
+    const bvec3 along = bvec3(axis == 0, axis == 1, axis == 2);
+    cell += ivec3(along) * stepDir;
+    const int c = axis == 0 ? cell.x : (axis == 1 ? cell.y : cell.z);
+    if (c < 0 || c >= n) break;
+    tCell = axisOf(tMax, axis);
+    tMax = mix(tMax, tMax + tDelta, along);
   }
   return noHit();
 }
@@ -727,7 +757,7 @@ bool occludedScene(vec3 o, vec3 d) {
 float sampleDistance(int layer, int a, int b, out bool filled) {
   const uint code = sampleCode(tileOrigin(layer), a, b);
   filled = code != gEmptyCode;
-  return float(code) / float(gEmptyCode - 1u) * models[gModel].distanceMax;
+  return float(code) / float(gEmptyCode - 1u) * gDistanceMax;
 }
 
 // The unprojected sample (x, y) of the current cell's face, false where out of range or empty.
@@ -786,7 +816,7 @@ void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
       b = bestB;
     }
     const ivec3 at = ivec3(tile.x + a, tile.y + b, tile.z);
-    const int normalFormat = models[gModel].normalFormat;
+    const int normalFormat = gNormalFormat;
     if (normalFormat == CR_NORMALS_NONE) {
       vec3 centre;
       const bool haveCentre = samplePoint(hit.face, layer, a, b, centre);
@@ -816,7 +846,7 @@ void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
       normal = normalize(vec3(texelFetch(rgbaNormalAtlas, at, 0).rgb) / 255.0 * 2.0 - 1.0);
 #endif
 #ifdef CR_COLORS
-    if (models[gModel].colorFormat == CR_COLORS_RGBA) color = vec3(texelFetch(colorAtlas, at, 0).rgb) / 255.0;
+    if (gColorFormat == CR_COLORS_RGBA) color = vec3(texelFetch(colorAtlas, at, 0).rgb) / 255.0;
 #endif
   }
   if (normal == vec3(0.0)) normal = -normalize(direction);

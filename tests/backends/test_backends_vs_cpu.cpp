@@ -3,7 +3,7 @@
 // with the same camera on the CPU reference and on every GPU backend, compared pixel by pixel:
 // hit-mask disagreement (fraction of pixels), depth error in sample spacings (median, p95, max),
 // normal angle (median, p95) and color difference (mean and p99 of the largest channel
-// difference). Bounds per mesh are about 1.5x what was measured (docs/backends.md). On failure
+// difference), against bounds set from what was measured (docs/backends.md). On failure
 // the test writes expected, actual and diff PNGs under the build tree and prints their paths.
 #include <gtest/gtest.h>
 
@@ -25,10 +25,6 @@ struct MeshCase {
   std::string name;
   std::string path;     ///< under the data folder; empty for the demo torus
   std::string texture;  ///< under the data folder, or empty
-  double maxMask;       ///< fraction of pixels whose hit mask differs
-  double maxMedianTexels, maxP95Texels;
-  double maxMedianDegrees, maxP95Degrees;
-  double maxMeanColor, maxP99Color;  ///< largest channel difference, 0..255
 };
 void PrintTo(const MeshCase& c, std::ostream* os) { *os << c.name; }
 
@@ -119,6 +115,14 @@ std::shared_ptr<const relief::ReliefModel> convertCase(const MeshCase& c) {
   return std::make_shared<relief::ReliefModel>(relief::convert(mesh, options));
 }
 
+// Measured on llvmpipe (200 x 200, two views, every mesh): no mask disagreement, depth error
+// median 0 and p95 at most 3e-4 sample spacings (float rounding: the same arithmetic in another
+// order), at most 0.01 at worst; normals within 0.03 degrees at p95; colors identical. The bounds
+// leave room for another driver's rounding (fused multiply-adds) while catching any real change
+// of the algorithm, which moves hits by whole sample fractions.
+constexpr double kMask = 2.5e-4, kMedian = 1e-3, kP95 = 1e-3, kMax = 0.05;
+constexpr double kMedianDeg = 0.01, kP95Deg = 0.05, kMeanColor = 0.05, kP99Color = 1;
+
 class BackendsVsCpu : public ::testing::TestWithParam<MeshCase> {};
 
 TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
@@ -153,17 +157,18 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
                   c.name.c_str(), v, std::string(backendName(kind)).c_str(), a.both, a.maskFraction,
                   a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees, a.p95Degrees,
                   a.meanColor, a.p99Color);
-      const bool ok = a.both > 2000 && a.maskFraction <= c.maxMask && a.medianTexels <= c.maxMedianTexels &&
-                      a.p95Texels <= c.maxP95Texels && a.medianDegrees <= c.maxMedianDegrees &&
-                      a.p95Degrees <= c.maxP95Degrees && a.meanColor <= c.maxMeanColor && a.p99Color <= c.maxP99Color;
+      const bool ok = a.both > 2000 && a.maskFraction <= kMask && a.medianTexels <= kMedian &&
+                      a.p95Texels <= kP95 && a.maxTexels <= kMax && a.medianDegrees <= kMedianDeg &&
+                      a.p95Degrees <= kP95Deg && a.meanColor <= kMeanColor && a.p99Color <= kP99Color;
       EXPECT_GT(a.both, 2000u);
-      EXPECT_LE(a.maskFraction, c.maxMask);
-      EXPECT_LE(a.medianTexels, c.maxMedianTexels);
-      EXPECT_LE(a.p95Texels, c.maxP95Texels);
-      EXPECT_LE(a.medianDegrees, c.maxMedianDegrees);
-      EXPECT_LE(a.p95Degrees, c.maxP95Degrees);
-      EXPECT_LE(a.meanColor, c.maxMeanColor);
-      EXPECT_LE(a.p99Color, c.maxP99Color);
+      EXPECT_LE(a.maskFraction, kMask);
+      EXPECT_LE(a.medianTexels, kMedian);
+      EXPECT_LE(a.p95Texels, kP95);
+      EXPECT_LE(a.maxTexels, kMax);
+      EXPECT_LE(a.medianDegrees, kMedianDeg);
+      EXPECT_LE(a.p95Degrees, kP95Deg);
+      EXPECT_LE(a.meanColor, kMeanColor);
+      EXPECT_LE(a.p99Color, kP99Color);
       if (!ok) {
         const std::filesystem::path dir = std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "backend_failures";
         std::filesystem::create_directories(dir);
@@ -181,13 +186,12 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
 INSTANTIATE_TEST_SUITE_P(
     RealMeshes, BackendsVsCpu,
     ::testing::Values(
-        MeshCase{"bunny", "meshes/medium/stanford-bunny__common-3d-test-models.obj", "", 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8},
-        MeshCase{"armadillo", "meshes/medium/armadillo__libigl-tutorial-data.obj", "", 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8},
-        MeshCase{"fertility", "meshes/small/fertility_9k__libigl-tutorial-data.off", "", 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8},
-        MeshCase{"spot", "meshes/small/spot__common-3d-test-models.obj", "meshes/small/spot_texture__cinolib.png",
-                 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8},
-        MeshCase{"igea", "meshes/large/igea__common-3d-test-models.ply", "", 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8},
-        MeshCase{"torus", "", "", 1.5e-3, 0.05, 0.5, 0.5, 2, 1, 8}),
+        MeshCase{"bunny", "meshes/medium/stanford-bunny__common-3d-test-models.obj", ""},
+        MeshCase{"armadillo", "meshes/medium/armadillo__libigl-tutorial-data.obj", ""},
+        MeshCase{"fertility", "meshes/small/fertility_9k__libigl-tutorial-data.off", ""},
+        MeshCase{"spot", "meshes/small/spot__common-3d-test-models.obj", "meshes/small/spot_texture__cinolib.png"},
+        MeshCase{"igea", "meshes/large/igea__common-3d-test-models.ply", ""},
+        MeshCase{"torus", "", ""}),
     [](const auto& p) { return p.param.name; });
 
 }  // namespace

@@ -365,7 +365,7 @@ class GlBackend final : public render::Backend {
   std::size_t mFrameWords = 0;
   std::map<std::string, GLuint> mPrograms;
   FrameLayout mLayout;
-  bool mUploaded = false, mRendered = false, mGeneral = false, mGather = false;
+  bool mUploaded = false, mRendered = false, mGeneral = false, mGather = true;
   double mGpuSeconds = 0, mCompileSeconds = 0;
 };
 

@@ -4,9 +4,10 @@
 /// "GPU layout"). API-neutral: plain arrays of words and texels, packed to fit real device limits.
 ///
 /// - Maps go into *atlases*: 2D array textures whose layers hold tiles of T x T samples, one tile
-///   per face layer of the model, packed densely (tilesPerRow x rowsPerLayer per array layer). A
-///   model of 27,129 face layers of 9 x 9 (the armadillo) fits in one 1,485 x 1,485 array layer
-///   where one texture layer per face would need 13x the 2,048 layers software drivers allow.
+///   per face layer of the model, packed densely (tilesPerRow x rowsPerLayer per array layer,
+///   both powers of two so the shader finds a tile with shifts). A model of 27,129 face layers of
+///   9 x 9 (the armadillo) fits in two array layers of 1,152 x 1,152 where one texture layer per
+///   face would need 13x the 2,048 layers software drivers allow.
 ///   The shader reads the four samples of a bilinear cell as integer texels (or one gather) and
 ///   filters them itself, exactly as the CPU tracer does: it must see the empty code of each
 ///   corner, which hardware filtering would blend away. So tiles need no border: a read never
@@ -75,8 +76,10 @@ struct ModelInfo {
   std::int32_t hashOffset;  ///< first slot of its hash table
   std::int32_t hashMask;    ///< slots - 1 (a power of two)
   std::int32_t layerBase;   ///< first array layer of its tiles in the atlases
-  std::int32_t tilesPerRow;
-  std::int32_t tilesPerLayer;
+  std::int32_t tilesPerRow;     ///< a power of two
+  std::int32_t tilesPerLayer;   ///< a power of two (tilesPerRow x rows per array layer)
+  std::int32_t tileRowShift;    ///< log2 tilesPerRow
+  std::int32_t tileLayerShift;  ///< log2 tilesPerLayer
   std::int32_t emptyCode;
   std::int32_t normalFormat;  ///< relief::NormalFormat
   std::int32_t colorFormat;   ///< relief::ColorFormat
@@ -84,7 +87,7 @@ struct ModelInfo {
   std::int32_t pyramidLevels;
   std::int32_t pyramidLayerStride;
   std::int32_t layerCount;
-  std::int32_t pad1;
+  std::int32_t pad1[3];
   std::int32_t levelSize[kMaxPyramidLevels];
   std::int32_t levelOffset[kMaxPyramidLevels];
 };
@@ -179,25 +182,31 @@ inline int findCell(const GpuScene& scene, int model, const Vec3i& ijk, int* pro
 /// Throws Error (ResourceLimit) naming the model and the limit when the scene cannot fit.
 inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits, bool withPyramid) {
   GpuScene out;
-  // ---- the atlas size: one width for every model, tall enough for the largest -------------------
+  // ---- the atlas size ------------------------------------------------------------------------------
+  // Per model, tiles per row and rows per array layer are powers of two (the shader addresses a
+  // tile with shifts and masks), as square as the layer count allows; the atlas is as wide as the
+  // widest model and as tall as the tallest needs.
+  auto floorPow2 = [](int v) { return v < 1 ? 0 : int(std::bit_floor(unsigned(v))); };
+  struct TileGrid {
+    int perRow = 1, rowsPerLayer = 1;
+  };
+  std::vector<TileGrid> grids(scene.models.size());
   int width = 1, height = 1;
   for (std::size_t i = 0; i < scene.models.size(); ++i) {
     const relief::ReliefModel& m = *scene.models[i];
     const int layers = m.layerCount();
     if (layers == 0) continue;
-    if (m.texels > limits.maxTextureSize)
+    const int cap = floorPow2(limits.maxTextureSize / m.texels);
+    if (cap < 1)
       throw Error(ErrorKind::ResourceLimit, detail::modelLabel(i, m) + ": tiles of " +
                                                 std::to_string(m.texels) + " samples exceed the device's " +
                                                 std::to_string(limits.maxTextureSize) + " texel texture size");
-    const int side = int(std::ceil(std::sqrt(double(layers))));
-    width = std::max(width, std::min(limits.maxTextureSize, side * m.texels));
-  }
-  for (const auto& mp : scene.models) {
-    const relief::ReliefModel& m = *mp;
-    if (m.layerCount() == 0) continue;
-    const int perRow = width / m.texels;
-    const int rows = (m.layerCount() + perRow - 1) / perRow;
-    height = std::max(height, std::min(limits.maxTextureSize / m.texels, rows) * m.texels);
+    TileGrid& g = grids[i];
+    g.perRow = std::min(cap, int(std::bit_ceil(unsigned(std::ceil(std::sqrt(double(layers)))))));
+    const int rowsNeeded = (layers + g.perRow - 1) / g.perRow;
+    g.rowsPerLayer = std::min(cap, int(std::bit_ceil(unsigned(rowsNeeded))));
+    width = std::max(width, g.perRow * m.texels);
+    height = std::max(height, std::min(g.rowsPerLayer, rowsNeeded) * m.texels);
   }
   // ---- per model: tables, tiles, pyramid ----------------------------------------------------------
   int arrayLayers = 0;
@@ -220,8 +229,10 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     info.colorFormat = int(m.colorFormat);
     info.layerCount = m.layerCount();
     info.layerBase = arrayLayers;
-    info.tilesPerRow = std::max(1, width / std::max(1, m.texels));
-    info.tilesPerLayer = info.tilesPerRow * std::max(1, height / std::max(1, m.texels));
+    info.tilesPerRow = grids[i].perRow;
+    info.tilesPerLayer = grids[i].perRow * grids[i].rowsPerLayer;
+    info.tileRowShift = std::countr_zero(unsigned(info.tilesPerRow));
+    info.tileLayerShift = std::countr_zero(unsigned(info.tilesPerLayer));
     if (m.layerCount() > 0) arrayLayers += (m.layerCount() + info.tilesPerLayer - 1) / info.tilesPerLayer;
     if (arrayLayers > limits.maxArrayLayers)
       throw Error(ErrorKind::ResourceLimit,
