@@ -18,6 +18,7 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #define CR_INF uintBitsToFloat(0x7f800000u)
+#define CR_NO_FIELD 1e30  // "not read": beyond any field value (at most CR_EMPTY_FIELD); not NaN, which fast-math drivers may not test
 #define CR_MAX_LIGHTS 8
 
 struct Light {
@@ -117,6 +118,7 @@ float gDistanceMax;
 int gPyramidOffset;
 int gPyramidLevels;
 int gPyramidLayerStride;
+vec2 gInverseAtlasSize;  // set once in main()
 
 int gCell;         // index into cells[]
 uint gConfiguration;
@@ -341,9 +343,8 @@ bool stored(int layer, vec2 uv, out float value) {
   const ivec3 tile = tileOrigin(layer);
 #ifdef CR_GATHER
   // One gather of the 2 x 2 block: (x, y, z, w) = (a0, b0+1), (a0+1, b0+1), (a0+1, b0), (a0, b0).
-  const vec2 atlasSize = vec2(textureSize(distanceAtlas, 0).xy);
-  const uvec4 g = textureGather(distanceAtlas,
-                                vec3((vec2(tile.xy) + vec2(a0 + 1, b0 + 1)) / atlasSize, float(tile.z)), 0);
+  const uvec4 g = textureGather(distanceAtlas, vec3((vec2(tile.xy) + vec2(a0 + 1, b0 + 1)) * gInverseAtlasSize,
+                                                  float(tile.z)), 0);
   const uint c00 = g.w, c10 = g.z, c01 = g.x, c11 = g.y;
 #else
   const uint c00 = sampleCode(tile, a0, b0);
@@ -392,9 +393,11 @@ vec3 localPoint(float t) { return gLocalOrigin + t * gLocalDirection; }
 
 // ---- linear + binary search (ReliefTracer::linearBinarySearch) --------------------------------
 
-Hit linearBinarySearch(float t0, float t1) {
-  FacePoint fp;
-  float fPrev = field(localPoint(t0), fp);
+// fStart, fpStart: the field and projection at t0; fEnd: the field at the last sample (t1)
+// when nothing is hit.
+Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
+  FacePoint fp = fpStart;
+  float fPrev = fStart;
   float footprint = 0.0;
   FacePoint a = fp;
   for (int k = 1; k <= CR_FOOTPRINT_PROBES; ++k) {
@@ -431,6 +434,7 @@ Hit linearBinarySearch(float t0, float t1) {
     fPrev = f;
     tPrev = t;
   }
+  fEnd = fPrev;
   return noHit();
 }
 
@@ -617,13 +621,13 @@ Hit skipSearch(float t0, float t1) {
 }
 #endif
 
-Hit searchInside(float t0, float t1) {
+Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
 #ifdef CR_SKIP
   if ((gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
       gPyramidOffset >= 0)
     return skipSearch(t0, t1);
 #endif
-  return linearBinarySearch(t0, t1);
+  return linearBinarySearch(t0, t1, fStart, fpStart, fEnd);
 }
 
 // ---- the side carried across cell faces (ReliefTracer::searchCell) -----------------------------
@@ -640,9 +644,11 @@ Hit searchCell(float t0, float t1) {
   const bool farExit = abs(gExitField) > nearFace && abs(gExitField) < CR_EMPTY_FIELD;
   if (gSide != kSideUnknown && (fIn > 0.0) != (gSide == kSideInside) && !(farIn && farExit))
     return makeHit(t0, fp, 1u);
-  const Hit hit = searchInside(t0, t1);
+  // The linear search hands over the fields at both ends instead of reading them again.
+  float fOut = CR_NO_FIELD;
+  const Hit hit = searchInside(t0, t1, fIn, fp, fOut);
   if (hit.cell < 0) {
-    const float fOut = field(localPoint(t1), fp);
+    if (fOut == CR_NO_FIELD) fOut = field(localPoint(t1), fp);
     gSide = fOut > 0.0 ? kSideInside : kSideOutside;
     gExitField = abs(fOut);
   }
@@ -884,6 +890,7 @@ void main() {
   const int width = P.size.x, height = P.size.y;
   if (pixel.x >= width || pixel.y >= height) return;
   const int index = pixel.y * width + pixel.x;
+  gInverseAtlasSize = 1.0 / vec2(textureSize(distanceAtlas, 0).xy);
   // Camera::primaryRay
   const float sx = (2.0 * (float(pixel.x) + 0.5) / float(width) - 1.0);
   const float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / float(height));

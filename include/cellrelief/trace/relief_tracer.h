@@ -270,9 +270,12 @@ class ReliefTracer {
     if (side.where != Side::Unknown && (fIn > 0) != (side.where == Side::Inside) &&
         !(farFromSurface(fIn) && farFromSurface(side.exitField)))
       return makeHit(index, ray, t0, fp, 1);
-    Hit hit = searchInside(proj, r, index, ray, frame, t0, t1);
+    // The linear search starts where the field was just read and ends where the next cell's
+    // side is decided: it hands both values over instead of reading them again.
+    T fOut = std::numeric_limits<T>::quiet_NaN();
+    Hit hit = searchInside(proj, r, index, ray, frame, t0, t1, fIn, fp, fOut);
     if (!hit.valid()) {
-      const T fOut = field(proj, r, local(t1), fp);
+      if (std::isnan(fOut)) fOut = field(proj, r, local(t1), fp);
       side.where = fOut > 0 ? Side::Inside : Side::Outside;
       side.exitField = std::abs(fOut);
     }
@@ -281,21 +284,25 @@ class ReliefTracer {
 
   template <class P>
   Hit searchInside(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
-                   const CellFrame& frame, T t0, T t1) const {
+                   const CellFrame& frame, T t0, T t1, T fStart,
+                   const projection::FacePoint<T>& fpStart, T& fEnd) const {
     constexpr bool kSingleDirection = std::is_same_v<P, projection::ParallelProjection<T>> ||
                                       std::is_same_v<P, projection::PlanarProjection<T>>;
     if constexpr (kSingleDirection) {
       if (mOptions.skipEmptySpace) return skipSearch(proj, r, index, ray, frame, t0, t1);
     }
-    return linearBinarySearch(proj, r, index, ray, frame, t0, t1);
+    return linearBinarySearch(proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd);
   }
 
+  /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
+  /// sample (t1) when nothing is hit.
   template <class P>
   Hit linearBinarySearch(const P& proj, const relief::CellRecord& r, std::int32_t index,
-                         const Ray<T>& ray, const CellFrame& frame, T t0, T t1) const {
+                         const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,
+                         const projection::FacePoint<T>& fpStart, T& fEnd) const {
     auto local = [&](T t) { return frame.origin + t * frame.direction; };
-    projection::FacePoint<T> fp;
-    T fPrev = field(proj, r, local(t0), fp);
+    projection::FacePoint<T> fp = fpStart;
+    T fPrev = fStart;
     // The footprint on the maps, from four points of the segment; a change of face counts as a
     // whole face crossed (conservative: the two pieces meet on the shared edge).
     T footprint = 0;
@@ -332,6 +339,7 @@ class ReliefTracer {
       fPrev = f;
       tPrev = t;
     }
+    fEnd = fPrev;
     return {};
   }
 
