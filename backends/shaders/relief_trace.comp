@@ -38,7 +38,7 @@ layout(std140, CR_BIND(0)) uniform Params {
   ivec4 steps;        // minLinearSteps, maxLinearSteps, binarySteps, reflection bounces
   vec4 tuning;        // stepsPerTexel, reflectivity, tanHalf * aspect, tanHalf
   ivec4 flags;        // shadows, skip, frame offsets: color, depth
-  ivec4 offsets;      // frame offsets: normal, mask; unused
+  ivec4 offsets;      // frame offsets: normal, mask, cell, steps
 } P;
 
 struct ModelInfo {
@@ -381,6 +381,7 @@ struct Hit {
 };
 
 Hit noHit() { return Hit(CR_INF, -1, -1, vec2(0.0), 0u); }
+Hit missAfter(uint steps) { return Hit(CR_INF, -1, -1, vec2(0.0), steps); }
 
 Hit makeHit(float t, FacePoint fp, uint steps) {
   return Hit(t, gCell, fp.face, clamp(fp.uv, vec2(0.0), vec2(1.0)), steps);
@@ -435,7 +436,7 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     tPrev = t;
   }
   fEnd = fPrev;
-  return noHit();
+  return missAfter(steps);
 }
 
 // ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
@@ -598,7 +599,7 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
     s = sExit;
     level = min(level + 1, top);
   }
-  return noHit();
+  return missAfter(steps);
 }
 
 // ReliefTracer::skipSearch: a planar cell is two parallel half-cells.
@@ -617,7 +618,9 @@ Hit skipSearch(float t0, float t1) {
   }
   const Hit hit = skipSearchFace(first, t0, tMid, 0.5);
   if (hit.cell >= 0) return hit;
-  return skipSearchFace(first ^ 1, tMid, t1, 0.5);
+  Hit second = skipSearchFace(first ^ 1, tMid, t1, 0.5);
+  second.steps += hit.steps;
+  return second;
 }
 #endif
 
@@ -709,6 +712,7 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
   gSide = tStart > tmin ? kSideOutside : kSideUnknown;
   gExitField = CR_INF;
   float tCell = tStart;
+  uint steps = 0u;  // over every grey cell searched
   for (;;) {
     const float tExit = min(min(tMax.x, tMax.y), min(tMax.z, tEnd));
     const int index = findCell(cell);
@@ -717,8 +721,12 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
       const vec3 cellOrigin = gOrigin + vec3(cell) * h;
       gLocalOrigin = (o - cellOrigin) / h;
       gLocalDirection = d / h;
-      const Hit hit = searchCell(tCell, tExit);
-      if (hit.cell >= 0) return hit;
+      Hit hit = searchCell(tCell, tExit);
+      steps += hit.steps;
+      if (hit.cell >= 0) {
+        hit.steps = steps;
+        return hit;
+      }
     } else {
       gExitField = CR_INF;
     }
@@ -731,22 +739,26 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
     tCell = axisOf(tMax, axis);
     tMax = mix(tMax, tMax + tDelta, along);
   }
-  return noHit();
+  return missAfter(steps);
 }
 
 // The nearest hit over the scene's models (CpuBackend::intersect); leaves that model selected.
+// best.steps: over every model's search, hit or miss.
 Hit traceScene(vec3 o, vec3 d, out int hitModel) {
   Hit best = noHit();
   hitModel = -1;
+  uint steps = 0u;
   for (int m = 0; m < P.size.z; ++m) {
     selectModel(m);
     const Hit h = traceModel(o, d, 0.0, best.cell >= 0 ? best.t : CR_INF);
+    steps += h.steps;
     if (h.cell >= 0 && (best.cell < 0 || h.t < best.t)) {
       best = h;
       hitModel = m;
     }
   }
   if (hitModel >= 0) selectModel(hitModel);
+  best.steps = steps;
   return best;
 }
 
@@ -898,6 +910,9 @@ void main() {
   const vec3 direction = normalize(P.forward.xyz + sx * P.right.xyz + sy * P.up.xyz);
   int model;
   const Hit hit = traceScene(eye, direction, model);
+#ifdef CR_OUT_STEPS
+  frameWords[P.offsets.w + index] = floatBitsToUint(float(hit.steps));
+#endif
   if (hit.cell < 0) {
 #ifdef CR_OUT_COLOR
     const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
@@ -911,6 +926,9 @@ void main() {
 #endif
 #ifdef CR_OUT_MASK
     frameWords[P.offsets.y + index] = 0u;
+#endif
+#ifdef CR_OUT_CELL
+    frameWords[P.offsets.z + index] = floatBitsToUint(-1.0);
 #endif
     return;
   }
@@ -926,6 +944,9 @@ void main() {
 #endif
 #ifdef CR_OUT_MASK
   frameWords[P.offsets.y + index] = 1u;
+#endif
+#ifdef CR_OUT_CELL
+  frameWords[P.offsets.z + index] = floatBitsToUint(float(hit.cell - models[model].cellOffset));
 #endif
 #ifdef CR_OUT_COLOR
   // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file frame.h
-/// The buffers a backend renders into and reads back: color, depth, normal and hit mask. Only the
+/// The buffers a backend renders into and reads back: color, depth, normal and hit mask, and two
+/// diagnostics (cell id and traversal steps per ray, for the viewer's heat map). Only the
 /// channels a caller asks for are allocated and written (a depth-only verification pass costs no
 /// shading), and every backend produces the same layout so that their images compare texel by texel.
 #pragma once
@@ -18,7 +19,9 @@ enum FrameChannel : unsigned {
   kDepth = 1u << 1,
   kNormal = 1u << 2,
   kMask = 1u << 3,
-  kAllChannels = kColor | kDepth | kNormal | kMask,
+  kCell = 1u << 4,   ///< diagnostics: the grey cell each primary ray hit
+  kSteps = 1u << 5,  ///< diagnostics: the traversal's work per primary ray
+  kAllChannels = kColor | kDepth | kNormal | kMask | kCell | kSteps,
 };
 
 struct Frame {
@@ -29,6 +32,11 @@ struct Frame {
   Image<float> depth;         ///< distance along the (unit) primary ray; +infinity where missed
   Image<float> normal;        ///< 3 channels, unit world-space shading normal; 0 where missed
   Image<std::uint8_t> mask;   ///< 1 where the primary ray hit, 0 elsewhere
+  /// Index of the hit cell in its model's cell table, -1 where missed (a float: exact below
+  /// 2^24 cells, far beyond real models).
+  Image<float> cell;
+  /// Field evaluations and skip steps of the primary ray over every model, hit or miss.
+  Image<float> steps;
 
   /// Allocates the requested buffers (and frees the others) for a width x height frame.
   void resize(int w, int h, unsigned wanted) {
@@ -40,6 +48,8 @@ struct Frame {
                             : Image<float>();
     normal = wanted & kNormal ? Image<float>(w, h, 3) : Image<float>();
     mask = wanted & kMask ? Image<std::uint8_t>(w, h, 1) : Image<std::uint8_t>();
+    cell = wanted & kCell ? Image<float>(w, h, 1, -1.0f) : Image<float>();
+    steps = wanted & kSteps ? Image<float>(w, h, 1) : Image<float>();
   }
   bool has(FrameChannel c) const { return (channels & c) != 0; }
 };

@@ -62,7 +62,7 @@ struct ReliefHit {
   int face = -1;     ///< domain face whose map held the surface
   Vec2f uv{0};       ///< face coordinates on that face, [0, 1]^2
   Vec2f texel{0};    ///< the same in sample units, [0, T - 1]^2
-  std::uint32_t steps = 0;  ///< field evaluations and skip steps taken (for statistics)
+  std::uint32_t steps = 0;  ///< field evaluations and skip steps over the whole ray (a miss reports them too)
   bool valid() const { return cell >= 0; }
 };
 
@@ -152,6 +152,7 @@ class ReliefTracer {
     // White and black cells hold no surface, so they keep the side.
     Side side{span.t0 > ray.tmin ? Side::Outside : Side::Unknown};
     T tCell = tStart;
+    std::uint32_t steps = 0;  // over every grey cell searched (a search that misses reports its steps too)
     while (true) {
       const T tExit = std::min({tMax.x, tMax.y, tMax.z, span.t1});
       const std::int32_t index = acc.getValue(openvdb::Coord(cell.x, cell.y, cell.z));
@@ -167,7 +168,11 @@ class ReliefTracer {
           }
           return found;
         });
-        if (hit.valid()) return hit;
+        steps += hit.steps;
+        if (hit.valid()) {
+          hit.steps = steps;
+          return hit;
+        }
       } else {
         side.exitField = std::numeric_limits<T>::infinity();
       }
@@ -178,7 +183,13 @@ class ReliefTracer {
       tCell = tMax[axis];
       tMax[axis] += tDelta[axis];
     }
-    return {};
+    return missAfter(steps);
+  }
+
+  static Hit missAfter(std::uint32_t steps) {
+    Hit miss;
+    miss.steps = steps;
+    return miss;
   }
 
   /// The ray in a cell's unit coordinates: p(t) = origin + t * direction.
@@ -340,7 +351,7 @@ class ReliefTracer {
       tPrev = t;
     }
     fEnd = fPrev;
-    return {};
+    return missAfter(steps);
   }
 
   /// Parallel and planar cells: walk the layer's min pyramid, meet the bilinear surface exactly
@@ -362,9 +373,11 @@ class ReliefTracer {
         const int face = 2 * axis + (o + T(0.5) * (t0 + t1) * d >= T(0.5) ? 1 : 0);
         return skipSearchFace(r, index, ray, frame, face, t0, t1, T(0.5));
       }
-      Hit hit = skipSearchFace(r, index, ray, frame, first, t0, tMid, T(0.5));
+      const Hit hit = skipSearchFace(r, index, ray, frame, first, t0, tMid, T(0.5));
       if (hit.valid()) return hit;
-      return skipSearchFace(r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
+      Hit second = skipSearchFace(r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
+      second.steps += hit.steps;
+      return second;
     }
   }
 
@@ -468,7 +481,7 @@ class ReliefTracer {
       s = sExit;
       level = std::min(level + 1, top);
     }
-    return {};
+    return missAfter(steps);
   }
 
   /// The smallest root of a s^2 + b s + c in [lo, hi] where the sign changes or touches zero.

@@ -78,16 +78,20 @@ class CpuBackend final : public render::Backend {
   struct SceneHit {
     Tracer::Hit hit;
     int model = -1;
+    std::uint32_t steps = 0;  ///< over every model's search, hit or miss
     bool valid() const { return model >= 0; }
   };
   SceneHit intersect(const Rayf& ray) const {
     SceneHit best;
+    std::uint32_t steps = 0;
     for (std::size_t i = 0; i < mTracers.size(); ++i) {
       Rayf clipped = ray;
       if (best.valid()) clipped.tmax = best.hit.t;
       Tracer::Hit h = mTracers[i]->intersect(clipped);
+      steps += h.steps;
       if (h.valid() && (!best.valid() || h.t < best.hit.t)) best = {h, int(i)};
     }
+    best.steps = steps;
     return best;
   }
   bool occluded(const Rayf& ray) const {
@@ -152,6 +156,7 @@ class CpuBackend final : public render::Backend {
         const Rayd primary = camera.primaryRay(x, y, options.width, options.height);
         const Rayf ray(Vec3f(primary.origin), Vec3f(primary.direction));
         const SceneHit sh = intersect(ray);
+        if (mFrame.has(render::kSteps)) mFrame.steps.at(x, y, 0) = float(sh.steps);
         if (!sh.valid()) {
           if (mFrame.has(render::kColor))
             for (int c = 0; c < 4; ++c)
@@ -161,6 +166,7 @@ class CpuBackend final : public render::Backend {
         const Vec3f n = facing(sh.hit.normal, ray.direction);
         if (mFrame.has(render::kDepth)) mFrame.depth.at(x, y, 0) = sh.hit.t;
         if (mFrame.has(render::kMask)) mFrame.mask.at(x, y, 0) = 1;
+        if (mFrame.has(render::kCell)) mFrame.cell.at(x, y, 0) = float(sh.hit.cell);
         if (mFrame.has(render::kNormal))
           for (int c = 0; c < 3; ++c) mFrame.normal.at(x, y, c) = n[c];
         if (mFrame.has(render::kColor)) {

@@ -41,7 +41,7 @@ struct FrameParams {
   std::int32_t steps[4];   ///< minLinear, maxLinear, binary, reflection bounces
   float tuning[4];         ///< stepsPerTexel, reflectivity
   std::int32_t flags[4];   ///< shadows, skip, color offset, depth offset
-  std::int32_t offsets[4]; ///< normal offset, mask offset
+  std::int32_t offsets[4]; ///< normal, mask, cell and steps offsets
 };
 inline constexpr int kMaxLights = 8;
 
@@ -145,6 +145,8 @@ class GlBackend final : public render::Backend {
       auto out = frame.mask.levelData();
       for (std::size_t i = 0; i < pixels; ++i) out[i] = std::uint8_t(words[mLayout.mask + i]);
     }
+    if (frame.has(render::kCell)) std::memcpy(frame.cell.levelData().data(), &words[mLayout.cell], pixels * 4);
+    if (frame.has(render::kSteps)) std::memcpy(frame.steps.levelData().data(), &words[mLayout.steps], pixels * 4);
   }
 
   std::size_t sceneBytes() const override { return mUploaded ? mGpuBytes : 0; }
@@ -173,7 +175,7 @@ class GlBackend final : public render::Backend {
   struct FrameLayout {
     int width = 0, height = 0;
     unsigned channels = 0;
-    std::size_t color = 0, depth = 0, normal = 0, mask = 0, words = 0;
+    std::size_t color = 0, depth = 0, normal = 0, mask = 0, cell = 0, steps = 0, words = 0;
   };
 
   void queryLimits() {
@@ -202,6 +204,8 @@ class GlBackend final : public render::Backend {
     take(render::kDepth, 1, l.depth);
     take(render::kNormal, 3, l.normal);
     take(render::kMask, 1, l.mask);
+    take(render::kCell, 1, l.cell);
+    take(render::kSteps, 1, l.steps);
     l.words = std::max<std::size_t>(at, 4);
     if (l.words * 4 > mLimits.maxStorageBytes)
       throw Error(ErrorKind::ResourceLimit,
@@ -253,6 +257,8 @@ class GlBackend final : public render::Backend {
     p.flags[3] = int(layout.depth);
     p.offsets[0] = int(layout.normal);
     p.offsets[1] = int(layout.mask);
+    p.offsets[2] = int(layout.cell);
+    p.offsets[3] = int(layout.steps);
     return p;
   }
 

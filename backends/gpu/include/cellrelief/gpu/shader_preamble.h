@@ -134,6 +134,8 @@ inline std::string variantDefines(const ShaderVariant& v) {
   flag(v.channels & render::kDepth, "CR_OUT_DEPTH");
   flag(v.channels & render::kNormal, "CR_OUT_NORMAL");
   flag(v.channels & render::kMask, "CR_OUT_MASK");
+  flag(v.channels & render::kCell, "CR_OUT_CELL");
+  flag(v.channels & render::kSteps, "CR_OUT_STEPS");
   return s;
 }
 
