@@ -62,8 +62,6 @@ std::pair<int, int> parseImageSize(const std::string& size) {
   return {w, h};
 }
 
-namespace {
-
 render::Camera parseCamera(const std::string& spec, const Aabbd& bounds) {
   const Vec3d centre = bounds.center();
   const double radius = 0.5 * bounds.diagonal();
@@ -86,6 +84,21 @@ render::Camera parseCamera(const std::string& spec, const Aabbd& bounds) {
   throw Error(ErrorKind::InvalidArgument,
               "--camera '" + spec + "': expected yaw,pitch[,fov] or ex,ey,ez,tx,ty,tz[,fov]");
 }
+
+std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input) {
+  if (std::filesystem::path(input).extension() == ".crm")
+    return std::make_shared<relief::ReliefModel>(relief::readRelief(input));
+  const TriangleMesh mesh = io::readMesh(input);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
+  std::printf("converted     %s: N = %d, T = %d, %zu grey cells, %s in %.2f s\n", input.c_str(),
+              model->gridSize, model->texels, model->cells.size(),
+              formatBytes(double(model->byteSize())).c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  return model;
+}
+
+namespace {
 
 Image<std::uint8_t> depthImage(const render::Frame& frame) {
   float lo = std::numeric_limits<float>::infinity(), hi = 0;
@@ -115,19 +128,7 @@ Image<std::uint8_t> normalImage(const render::Frame& frame) {
 int runRender(const RenderCli& o) {
   const auto [width, height] = parseImageSize(o.size);
   auto backend = backends::createBackend(o.backend);
-  std::shared_ptr<relief::ReliefModel> model;
-  if (std::filesystem::path(o.input).extension() == ".crm") {
-    model = std::make_shared<relief::ReliefModel>(relief::readRelief(o.input));
-  } else {
-    const TriangleMesh mesh = io::readMesh(o.input);
-    const auto t0 = std::chrono::steady_clock::now();
-    model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
-    std::printf("converted     %s: N = %d, T = %d, %zu grey cells, %s in %.2f s\n", o.input.c_str(),
-                model->gridSize, model->texels, model->cells.size(),
-                formatBytes(double(model->byteSize())).c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  const render::Scene scene = render::Scene::of(model);
+  const render::Scene scene = render::Scene::of(loadOrConvert(o.input));
   render::RenderOptions options;
   options.width = width;
   options.height = height;
@@ -135,8 +136,12 @@ int runRender(const RenderCli& o) {
   options.reflectionBounces = o.reflections;
   options.trace.skipEmptySpace = o.skip;
   const render::Camera camera = parseCamera(o.camera, scene.boundsWS());
-  backend->upload(scene);
-  backend->render(camera, options);  // the first frame builds the tracers
+  try {
+    backend->upload(scene);
+  } catch (const Error& e) {
+    throw Error(e.kind(), std::filesystem::path(o.input), e.what());
+  }
+  backend->render(camera, options);  // the first frame builds the tracers (or compiles the shader)
   const auto t0 = std::chrono::steady_clock::now();
   backend->render(camera, options);
   render::Frame frame;
@@ -148,6 +153,8 @@ int runRender(const RenderCli& o) {
               "%d reflection bounce%s)\n",
               width, height, backend->description().c_str(), seconds, width * height / seconds * 1e-6,
               hits, o.shadows ? "" : "out", o.reflections, o.reflections == 1 ? "" : "s");
+  if (backend->deviceSeconds() > 0)
+    std::printf("device time   %.3f s (the GPU's own clock)\n", backend->deviceSeconds());
   io::writePng(frame.color, o.output);
   std::printf("wrote         %s\n", o.output.c_str());
   if (!o.depth.empty()) {
@@ -184,7 +191,7 @@ Command addRenderCommand(CLI::App& app) {
   auto o = std::make_shared<RenderCli>();
   cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
-  cmd->add_option("--backend", o->backend, "auto, cpu, opengl or vulkan")->capture_default_str();
+  cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");

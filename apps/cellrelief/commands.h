@@ -14,6 +14,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cellrelief/core/aabb.h>
+#include <cellrelief/render/camera.h>
+
 namespace cellrelief::relief {
 struct ReliefModel;
 }
@@ -52,5 +55,16 @@ int parseGridSize(const std::string& grid);
 
 /// The value of --size: "WxH", each 1 to 16384. Throws Error otherwise.
 std::pair<int, int> parseImageSize(const std::string& size);
+
+/// The value of --camera around a scene's bounds: "" (the default view), yaw,pitch[,fov] or
+/// ex,ey,ez,tx,ty,tz[,fov]. Throws Error otherwise.
+render::Camera parseCamera(const std::string& spec, const Aabbd& bounds);
+
+/// A relief model read from a .crm file, or converted at default settings from a mesh (printing
+/// one line about the conversion).
+std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input);
+
+Command addCompareBackendsCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 
 }  // namespace cellrelief::app

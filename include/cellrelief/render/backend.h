@@ -72,6 +72,9 @@ class Backend {
   virtual void readBack(Frame& frame) = 0;
   /// Bytes the backend holds for the uploaded scene (maps, tables, acceleration).
   virtual std::size_t sceneBytes() const = 0;
+  /// Seconds the last frame took on the device's own clock (GPU timer queries), known after
+  /// readBack(); 0 where the backend has no such clock (the CPU reference).
+  virtual double deviceSeconds() const { return 0; }
 
   /// render() then readBack().
   Frame renderFrame(const Camera& camera, const RenderOptions& options) {

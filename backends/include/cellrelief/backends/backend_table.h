@@ -22,6 +22,11 @@
 
 namespace cellrelief::backends {
 
+/// What --backend takes, for a command line's help.
+inline constexpr const char* kBackendHelp =
+    "auto, cpu, opengl or vulkan (auto: OpenGL on a hardware GPU, else the CPU reference; "
+    "see docs/backends.md)";
+
 /// Whether `kind` can render here; for Auto, whether any backend can.
 inline render::Availability isAvailable(render::BackendKind kind) {
   using render::BackendKind;

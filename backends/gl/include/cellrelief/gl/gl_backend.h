@@ -129,7 +129,8 @@ class GlBackend final : public render::Backend {
     glGetNamedBufferSubData(mFrameBuffer, 0, GLsizeiptr(words.size() * 4), words.data());
     GLuint64 nanoseconds = 0;
     glGetQueryObjectui64v(mTimer, GL_QUERY_RESULT, &nanoseconds);
-    mGpuSeconds = double(nanoseconds) * 1e-9;
+    // llvmpipe's timer queries do not see compute dispatches (they read about 0): no device clock.
+    mGpuSeconds = mContext->isSoftware() ? 0.0 : double(nanoseconds) * 1e-9;
     const int w = mLayout.width, h = mLayout.height;
     frame.resize(w, h, mLayout.channels);
     const std::size_t pixels = std::size_t(w) * std::size_t(h);
@@ -152,7 +153,7 @@ class GlBackend final : public render::Backend {
   std::size_t sceneBytes() const override { return mUploaded ? mGpuBytes : 0; }
 
   /// GPU time of the last frame's dispatch (a timer query), known after readBack().
-  double lastGpuSeconds() const { return mGpuSeconds; }
+  double deviceSeconds() const override { return mGpuSeconds; }
   /// Render with the one shader that holds every projection, map and feature (to measure what
   /// the specialized variants save).
   void setGeneralShader(bool general) { mGeneral = general; }
