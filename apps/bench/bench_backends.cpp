@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+/// @file bench_backends.cpp
+/// Benchmark: one scene, one camera, the same rays on every renderer that runs here. For each
+/// mesh (Igea, armadillo, the 1M-triangle Igea; fertility with --quick) it converts at default
+/// settings and renders primary rays (depth and mask) and shaded frames with shadow rays on the
+/// CPU reference, on OpenGL (llvmpipe gets LP_NUM_THREADS = the CPU backend's threads), and casts
+/// the same primary and shadow rays with Embree on the original mesh. Prints Mrays/s, the ratio to
+/// the CPU reference, the agreement of every channel with it, and the scene bytes; writes
+/// backends.csv and the plot backends.png.
+///
+///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024]
+#include <cstdio>
+#include <cstdlib>
+#include <atomic>
+#include <map>
+#include <memory>
+#include <thread>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <cellrelief/backends/backend_table.h>
+#include <cellrelief/core/parallel.h>
+#include <cellrelief/embree/embree_scene.h>
+#include <cellrelief/io/mesh_io.h>
+#include <cellrelief/relief/convert.h>
+#include <cellrelief/render/frame_comparison.h>
+
+#include "../common/plot.h"
+#include "bench_common.h"
+
+using namespace cellrelief;
+
+namespace {
+
+struct Measured {
+  double primarySeconds = 0, shadedSeconds = 0, deviceSeconds = 0;
+  std::size_t shadowRays = 0, bytes = 0;
+  render::Frame primary;
+};
+
+/// Primary rays, then shaded frames with one shadow ray per lit hit, on a backend.
+Measured measureBackend(render::Backend& backend, const render::Scene& scene, const render::Camera& camera,
+                        int size, int repeats, int threads) {
+  Measured m;
+  backend.upload(scene);
+  render::RenderOptions options;
+  options.width = options.height = size;
+  options.threads = std::size_t(threads);
+  options.channels = render::kDepth | render::kMask | render::kNormal | render::kCell;
+  options.shadows = false;
+  backend.renderFrame(camera, options);  // warm-up: tracers, shader compilation
+  m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = backend.renderFrame(camera, options); });
+  m.deviceSeconds = backend.deviceSeconds();
+  options.channels = render::kColor;
+  options.shadows = true;
+  backend.renderFrame(camera, options);
+  m.shadedSeconds = bench::medianSeconds(repeats, [&] { backend.renderFrame(camera, options); });
+  m.bytes = backend.sceneBytes();
+  return m;
+}
+
+/// Embree on the original mesh: the same primary rays, and a shadow ray towards the light from
+/// every hit that faces it.
+Measured measureEmbree(const embree::EmbreeScene& embree, const render::Camera& camera, int size, int repeats,
+                       const Vec3f& light, float offset) {
+  Measured m;
+  m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = embree.renderReference(camera, size, size); });
+  std::atomic<std::size_t> shadowRays{0};
+  m.shadedSeconds = bench::medianSeconds(repeats, [&] {
+    shadowRays = 0;
+    parallelFor(0, std::size_t(size) * size, [&](std::size_t i) {
+      const int x = int(i % std::size_t(size)), y = int(i / std::size_t(size));
+      const Rayd primary = camera.primaryRay(x, y, size, size);
+      const Rayf ray(Vec3f(primary.origin), Vec3f(primary.direction));
+      const auto hit = embree.intersect(ray);
+      if (!hit.valid()) return;
+      Vec3f n = embree.normal(hit);
+      if (glm::dot(n, ray.direction) > 0) n = -n;
+      if (glm::dot(n, light) <= 0) return;
+      ++shadowRays;
+      (void)embree.occluded(Rayf(ray.at(hit.t) + offset * n, light));
+    }, 256);
+  });
+  m.shadowRays = shadowRays;
+  m.bytes = embree.byteSize();
+  return m;
+}
+
+std::size_t countHits(const render::Frame& f) {
+  std::size_t hits = 0;
+  for (std::uint8_t v : f.mask.levelData()) hits += v;
+  return hits;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"One scene on every backend: Mrays/s, agreement with the CPU reference, scene bytes", "bench_backends"};
+  bench::BenchOptions options;
+  options.threads = 2;
+  int size = 1024;
+  options.addTo(app);
+  app.add_option("--size", size, "Frames of size x size pixels")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  // llvmpipe reads its thread count when the first context is made: the same as the CPU's.
+  const std::string lpThreads = std::to_string(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
+  setenv("LP_NUM_THREADS", lpThreads.c_str(), 0);
+  const ThreadLimit limit{std::size_t(options.threads)};
+  if (options.quick) size = std::min(size, 128);
+  const int repeats = options.quick ? 1 : 3;
+
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  try {
+    if (options.quick) {
+      meshes.emplace_back("fertility", io::readMesh(options.data + "/meshes/small/fertility_9k__libigl-tutorial-data.off"));
+    } else {
+      TriangleMesh igea = io::readMesh(options.data + "/meshes/large/igea__common-3d-test-models.ply");
+      TriangleMesh igea1M = bench::loopSubdivide(igea);
+      meshes.emplace_back("igea", std::move(igea));
+      meshes.emplace_back("armadillo", io::readMesh(options.data + "/meshes/medium/armadillo__libigl-tutorial-data.obj"));
+      meshes.emplace_back("igea-loop1", std::move(igea1M));
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "bench_backends: %s\n", e.what());
+    return 1;
+  }
+  bench::CsvWriter csv(std::filesystem::path(options.out) / "backends.csv",
+                       "mesh,backend,device,pixels,hits,primary_mrays,shaded_mpixels,shadow_rays,vs_cpu_primary,"
+                       "vs_cpu_shaded,mask_disagreement,median_depth_texels,p95_depth_texels,scene_bytes");
+  std::printf("%d threads (LP_NUM_THREADS=%s); %dx%d pixels from a framing camera; median of %d frames\n",
+              options.threads, std::getenv("LP_NUM_THREADS"), size, size, repeats);
+  std::vector<app::PlotSeries> series;
+  std::map<std::string, std::size_t> seriesOf;
+  int meshIndex = 0;
+  for (const auto& [name, mesh] : meshes) {
+    const auto model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
+    const render::Scene scene = render::Scene::of(model);
+    const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
+    const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * bounds.diagonal(), 35, 20);
+    const double spacing = model->cellSizeWS / double(model->texels - 1);
+    std::printf("\n%s: %zu triangles -> N = %d, T = %d, %zu grey cells\n", name.c_str(), mesh.triangleCount(),
+                model->gridSize, model->texels, model->cells.size());
+    std::printf("%-8s %10s %10s %8s %10s %8s %10s %9s %9s %12s  %s\n", "backend", "prim Mr/s", "vs cpu",
+                "", "shaded Mp/s", "vs cpu", "mask", "depth med", "depth p95", "scene bytes", "device");
+    struct Row {
+      std::string backend, device;
+      Measured m;
+    };
+    std::vector<Row> rows;
+    for (render::BackendKind kind : {render::BackendKind::Cpu, render::BackendKind::OpenGL, render::BackendKind::Vulkan}) {
+      const render::Availability available = backends::isAvailable(kind);
+      if (!available) {
+        std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
+        continue;
+      }
+      auto backend = backends::createBackend(kind);
+      rows.push_back({std::string(render::backendName(kind)), backend->description(),
+                      measureBackend(*backend, scene, camera, size, repeats, options.threads)});
+    }
+    {
+      const embree::EmbreeScene embree(mesh);
+      const Vec3f light = glm::normalize(scene.lights[0].direction);
+      rows.push_back({"embree", "Embree 3 rtcIntersect1/rtcOccluded1 on the original mesh, " +
+                                    std::to_string(options.threads) + " threads",
+                      measureEmbree(embree, camera, size, repeats, light, float(2 * spacing))});
+    }
+    const Measured& cpu = rows[0].m;
+    const double pixels = double(size) * double(size);
+    for (const Row& r : rows) {
+      const render::FrameAgreement a = render::compareFrames(cpu.primary, r.m.primary, spacing);
+      const double primary = pixels / r.m.primarySeconds * 1e-6, shaded = pixels / r.m.shadedSeconds * 1e-6;
+      std::printf("%-8s %10.2f %9.2fx %8s %10.2f %7.2fx %10.2e %9.4f %9.4f %12zu  %s\n", r.backend.c_str(), primary,
+                  cpu.primarySeconds / r.m.primarySeconds, "", shaded, cpu.shadedSeconds / r.m.shadedSeconds,
+                  a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes, r.device.c_str());
+      if (r.m.deviceSeconds > 0)
+        std::printf("%-8s device clock: %.2f Mrays/s\n", "", pixels / r.m.deviceSeconds * 1e-6);
+      csv.row(name, r.backend, '"' + r.device + '"', std::size_t(pixels), countHits(r.m.primary), primary, shaded,
+              r.m.shadowRays, cpu.primarySeconds / r.m.primarySeconds, cpu.shadedSeconds / r.m.shadedSeconds,
+              a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes);
+      if (!seriesOf.count(r.backend)) {
+        seriesOf[r.backend] = series.size();
+        series.push_back({r.backend, {}, {}, app::Plot::palette(series.size()), true});
+      }
+      app::PlotSeries& s = series[seriesOf[r.backend]];
+      s.x.push_back(meshIndex);
+      s.y.push_back(primary);
+    }
+    ++meshIndex;
+  }
+  app::Plot plot;
+  plot.title = "Primary rays per backend, " + std::to_string(options.threads) + " threads (x: ";
+  for (std::size_t i = 0; i < meshes.size(); ++i) plot.title += (i ? ", " : "") + std::to_string(i) + " " + meshes[i].first;
+  plot.title += ")";
+  plot.xLabel = "mesh";
+  plot.yLabel = "Mrays/s";
+  plot.logY = true;
+  plot.series = series;
+  const std::filesystem::path png = std::filesystem::path(options.out) / "backends.png";
+  plot.write(png);
+  std::printf("\nvs cpu = the CPU reference's time / this backend's on the same frame; mask and depth: "
+              "agreement of the primary frame with the CPU reference (depth in sample spacings; Embree "
+              "is the original mesh, so its figures are the relief model's own error)\nwrote %s and %s\n",
+              csv.path().c_str(), png.c_str());
+  return 0;
+}
