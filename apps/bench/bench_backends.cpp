@@ -156,6 +156,14 @@ int main(int argc, char** argv) {
       auto backend = backends::createBackend(kind);
       rows.push_back({std::string(render::backendName(kind)), backend->description(),
                       measureBackend(*backend, scene, camera, size, repeats, options.threads)});
+#ifdef CELLRELIEF_HAS_OPENGL
+      // What the scene's own shader variant saves: the same frames with the general shader.
+      if (auto* gl = dynamic_cast<gl::GlBackend*>(backend.get())) {
+        gl->setGeneralShader(true);
+        rows.push_back({"opengl-general", "the one shader with every projection, map and feature",
+                        measureBackend(*backend, scene, camera, size, repeats, options.threads)});
+      }
+#endif
     }
     {
       const embree::EmbreeScene embree(mesh);

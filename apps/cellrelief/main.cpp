@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
       cellrelief::app::addReconstructCommand(app),
       cellrelief::app::addRenderCommand(app),
       cellrelief::app::addCompareBackendsCommand(app),
+      cellrelief::app::addViewCommand(app),
       cellrelief::app::addBenchCommand(app),
       cellrelief::app::addIndirectCommand(app),
       cellrelief::app::addCompareOptimizersCommand(app),

@@ -15,7 +15,7 @@
 #define CR_BIND(n) binding = n
 #endif
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(local_size_x = CR_GROUP_WIDTH, local_size_y = CR_GROUP_HEIGHT, local_size_z = 1) in;
 
 #define CR_INF uintBitsToFloat(0x7f800000u)
 #define CR_NO_FIELD 1e30  // "not read": beyond any field value (at most CR_EMPTY_FIELD); not NaN, which fast-math drivers may not test

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cellrelief/io/image_io.h>
+
 #include "test_support.h"
 
 namespace cellrelief {
@@ -16,9 +18,9 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-Result run(const std::string& args) {
+Result run(const std::string& args, const std::string& prefix = "") {
   Result r;
-  const std::string command = std::string(CELLRELIEF_CLI) + " " + args + " 2>&1";
+  const std::string command = prefix + std::string(CELLRELIEF_CLI) + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buffer;
@@ -178,6 +180,68 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
     EXPECT_NE(r.output.find(words), std::string::npos) << args << ": " << r.output;
   }
   EXPECT_FALSE(std::filesystem::exists("x.png"));
+}
+
+/// Pixels whose RGB differs between two PNGs of one size (alpha is ignored: a window has none).
+int differingPixels(const std::filesystem::path& a, const std::filesystem::path& b) {
+  const auto ia = std::get<Image<std::uint8_t>>(io::readImage(a).pixels);
+  const auto ib = std::get<Image<std::uint8_t>>(io::readImage(b).pixels);
+  if (ia.width() != ib.width() || ia.height() != ib.height()) return -1;
+  int count = 0;
+  for (int y = 0; y < ia.height(); ++y)
+    for (int x = 0; x < ia.width(); ++x) {
+      bool same = true;
+      for (int c = 0; c < 3; ++c) same &= ia.at(x, y, c) == ib.at(x, y, c);
+      count += !same;
+    }
+  return count;
+}
+
+TEST(Cli, RenderAndCompareBackendsOnOpenGL) {
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  test::TempDir dir;
+  const Result gl = run("render " + spot.string() + " -o " + (dir / "gl.png").string() + " --size 96x64 --backend opengl");
+  ASSERT_EQ(gl.status, 0) << gl.output;
+  EXPECT_NE(gl.output.find("on OpenGL"), std::string::npos) << gl.output;
+  const Result cpu = run("render " + spot.string() + " -o " + (dir / "cpu.png").string() + " --size 96x64 --backend cpu");
+  ASSERT_EQ(cpu.status, 0) << cpu.output;
+  EXPECT_EQ(differingPixels(dir / "gl.png", dir / "cpu.png"), 0);
+  const Result cmp = run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 -o " + (dir / "cmp").string());
+  ASSERT_EQ(cmp.status, 0) << cmp.output;
+  for (const char* words : {"cpu ", "opengl ", "Mrays/s", "mask"}) EXPECT_NE(cmp.output.find(words), std::string::npos) << words;
+  EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "side_by_side.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_opengl.png"));
+  const Result bad = run("compare-backends absent.crm -o " + (dir / "bad").string());
+  EXPECT_EQ(bad.status, 1) << bad.output;
+  EXPECT_NE(bad.output.find("absent.crm"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
+// The viewer in a real window (Xvfb) for a few frames: its screenshot is the headless render of
+// the same camera, pixel for pixel, on the CPU and on the OpenGL backend.
+TEST(Cli, ViewerUnderXvfbShowsTheHeadlessRender) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+    if (test::inCI()) FAIL() << "xvfb-run is missing (Debian package xvfb)";
+    GTEST_SKIP() << "xvfb-run is not installed";
+  }
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  test::TempDir dir;
+  const Result model = run("convert " + spot.string() + " -o " + (dir / "spot.crm").string());
+  ASSERT_EQ(model.status, 0) << model.output;
+  for (const char* backend : {"cpu", "opengl"}) {
+    const std::string shot = (dir / (std::string(backend) + "_window.png")).string();
+    const std::string headless = (dir / (std::string(backend) + "_headless.png")).string();
+    const std::string common = " --size 160x120 --camera 150,15 --backend " + std::string(backend);
+    const Result view = run("view " + (dir / "spot.crm").string() + common + " --frames 3 --screenshot " + shot,
+                            "xvfb-run -a ");
+    ASSERT_EQ(view.status, 0) << view.output;
+    EXPECT_NE(view.output.find("frame 3:"), std::string::npos) << view.output;
+    const Result render = run("render " + (dir / "spot.crm").string() + common + " -o " + headless);
+    ASSERT_EQ(render.status, 0) << render.output;
+    EXPECT_EQ(differingPixels(shot, headless), 0) << backend;
+  }
 }
 
 }  // namespace

@@ -102,8 +102,11 @@ class GlBackend final : public render::Backend {
     if (options.width < 1 || options.height < 1)
       throw Error(ErrorKind::InvalidArgument, "OpenGL backend: empty frame size");
     mContext->makeCurrent();
-    const GLuint program = programFor(variantFor(options));
-    const FrameLayout layout = frameLayout(options);
+    const gpu::ShaderVariant variant = variantFor(options);
+    const GLuint program = programFor(variant);
+    // The layout holds every channel the shader writes (the general one writes all of them);
+    // readBack() copies those the caller asked for.
+    const FrameLayout layout = frameLayout(options, variant.channels);
     ensureFrameBuffer(layout.words);
     FrameParams params = frameParams(camera, options, layout);
     if (!mParamsBuffer) glCreateBuffers(1, &mParamsBuffer), glNamedBufferStorage(mParamsBuffer, sizeof(FrameParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -115,7 +118,8 @@ class GlBackend final : public render::Backend {
     for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
     if (!mTimer) glGenQueries(1, &mTimer);
     glBeginQuery(GL_TIME_ELAPSED, mTimer);
-    glDispatchCompute(GLuint((options.width + 7) / 8), GLuint((options.height + 7) / 8), 1);
+    const int gw = gpu::kGroupWidth, gh = gpu::kGroupHeight;
+    glDispatchCompute(GLuint((options.width + gw - 1) / gw), GLuint((options.height + gh - 1) / gh), 1);
     glEndQuery(GL_TIME_ELAPSED);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     mLayout = layout;
@@ -191,7 +195,7 @@ class GlBackend final : public render::Backend {
     mLimits.maxStorageBytes = block64 > 0 ? std::size_t(block64) : std::size_t(block > 0 ? block : 1 << 27);
   }
 
-  FrameLayout frameLayout(const render::RenderOptions& o) const {
+  FrameLayout frameLayout(const render::RenderOptions& o, unsigned written) const {
     FrameLayout l;
     l.width = o.width;
     l.height = o.height;
@@ -199,7 +203,7 @@ class GlBackend final : public render::Backend {
     const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
     std::size_t at = 0;
     auto take = [&](unsigned channel, std::size_t perPixel, std::size_t& offset) {
-      if (o.channels & channel) offset = at, at += perPixel * pixels;
+      if (written & channel) offset = at, at += perPixel * pixels;
     };
     take(render::kColor, 1, l.color);
     take(render::kDepth, 1, l.depth);

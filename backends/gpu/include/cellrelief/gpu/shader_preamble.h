@@ -68,6 +68,11 @@ struct ShaderVariant {
   }
 };
 
+/// The compute workgroup in pixels. Measured on llvmpipe (armadillo, 400 x 400): 8 x 8 0.35 s,
+/// 16 x 16 0.34 s, 4 x 16 0.54 s, 2 x 32 0.95 s: it runs 8 consecutive x invocations as one
+/// 256-bit vector, so a group narrower than 8 leaves lanes empty.
+inline constexpr int kGroupWidth = 8, kGroupHeight = 8;
+
 namespace detail {
 inline std::string glslFloat(double v) {
   char text[48];
@@ -110,6 +115,8 @@ inline std::string traversalConstants() {
   s += define("CR_NORMALS_OCT", int(relief::NormalFormat::Octahedral16));
   s += define("CR_NORMALS_RGBA", int(relief::NormalFormat::Rgba8));
   s += define("CR_COLORS_RGBA", int(relief::ColorFormat::Rgba8));
+  s += define("CR_GROUP_WIDTH", kGroupWidth);
+  s += define("CR_GROUP_HEIGHT", kGroupHeight);
   return s;
 }
 
