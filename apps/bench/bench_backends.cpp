@@ -46,7 +46,7 @@ Measured measureBackend(render::Backend& backend, const render::Scene& scene, co
   render::RenderOptions options;
   options.width = options.height = size;
   options.threads = std::size_t(threads);
-  options.channels = render::kDepth | render::kMask | render::kNormal | render::kCell;
+  options.channels = render::kDepth | render::kMask | render::kNormal | render::kCell | render::kSteps;
   options.shadows = false;
   backend.renderFrame(camera, options);  // warm-up: tracers, shader compilation
   m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = backend.renderFrame(camera, options); });
@@ -84,6 +84,29 @@ Measured measureEmbree(const embree::EmbreeScene& embree, const render::Camera& 
   m.shadowRays = shadowRays;
   m.bytes = embree.byteSize();
   return m;
+}
+
+/// How busy 8 lanes running 8 consecutive pixels stay when each runs its ray's steps: the mean
+/// over groups of (mean steps / most steps). llvmpipe runs a compute shader this way (256 bits),
+/// so this bounds what it can get from the traversal's divergence.
+double laneOccupancy(const render::Frame& f) {
+  double sum = 0;
+  std::size_t groups = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x0 = 0; x0 + 8 <= f.width; x0 += 8) {
+      double total = 0, most = 0;
+      for (int x = x0; x < x0 + 8; ++x) total += f.steps.at(x, y, 0), most = std::max(most, double(f.steps.at(x, y, 0)));
+      if (most == 0) continue;
+      sum += total / (8 * most);
+      ++groups;
+    }
+  return groups ? sum / double(groups) : 1.0;
+}
+
+double meanSteps(const render::Frame& f) {
+  double sum = 0;
+  for (float v : f.steps.levelData()) sum += v;
+  return sum / double(std::max<std::size_t>(1, f.steps.levelData().size()));
 }
 
 std::size_t countHits(const render::Frame& f) {
@@ -174,6 +197,8 @@ int main(int argc, char** argv) {
     }
     const Measured& cpu = rows[0].m;
     const double pixels = double(size) * double(size);
+    std::printf("%-8s %.1f field evaluations and skip steps per primary ray; 8-lane occupancy %.0f%%\n", "",
+                meanSteps(cpu.primary), 100 * laneOccupancy(cpu.primary));
     for (const Row& r : rows) {
       const render::FrameAgreement a = render::compareFrames(cpu.primary, r.m.primary, spacing);
       const double primary = pixels / r.m.primarySeconds * 1e-6, shaded = pixels / r.m.shadedSeconds * 1e-6;

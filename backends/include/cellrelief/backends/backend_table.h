@@ -5,10 +5,11 @@
 /// definitions the `cellrelief::backends` target carries, so a reader sees every backend in one
 /// place and an absent dependency compiles nothing.
 ///
-/// "auto" takes the first available backend in order of preference: OpenGL on a hardware GPU,
-/// else the CPU reference, except that OpenGL on llvmpipe is preferred over the CPU where
-/// bench_backends measured it faster (docs/backends.md). The Vulkan backend is a later issue:
-/// until it lands, its row answers "not implemented in this version" rather than pretending.
+/// "auto" takes OpenGL on a hardware GPU, else the CPU reference: on a software device
+/// (llvmpipe) bench_backends measured the CPU reference faster on every mesh (docs/backends.md:
+/// 0.1x to 1x, the traversal's divergence idles llvmpipe's 8-wide lanes). The Vulkan backend is
+/// a later issue: until it lands, its row answers "not implemented in this version" rather than
+/// pretending.
 #pragma once
 
 #include <memory>
@@ -24,8 +25,8 @@ namespace cellrelief::backends {
 
 /// What --backend takes, for a command line's help.
 inline constexpr const char* kBackendHelp =
-    "auto, cpu, opengl or vulkan (auto: OpenGL on a hardware GPU, else the CPU reference; "
-    "see docs/backends.md)";
+    "auto, cpu, opengl or vulkan (auto: OpenGL on a hardware GPU, else the CPU reference, "
+    "measured faster than OpenGL on llvmpipe; see docs/backends.md)";
 
 /// Whether `kind` can render here; for Auto, whether any backend can.
 inline render::Availability isAvailable(render::BackendKind kind) {
@@ -53,8 +54,9 @@ inline render::Availability isAvailable(render::BackendKind kind) {
 inline render::BackendKind resolve(render::BackendKind kind) {
   using render::BackendKind;
   if (kind != BackendKind::Auto) return kind;
-  for (BackendKind k : {BackendKind::OpenGL})
-    if (isAvailable(k)) return k;
+#ifdef CELLRELIEF_HAS_OPENGL
+  if (gl::probe().availability && !gl::probe().software) return BackendKind::OpenGL;
+#endif
   return BackendKind::Cpu;
 }
 

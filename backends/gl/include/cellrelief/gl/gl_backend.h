@@ -380,17 +380,23 @@ class GlBackend final : public render::Backend {
   double mGpuSeconds = 0, mCompileSeconds = 0;
 };
 
-/// Whether an OpenGL 4.5 context comes up here, and why not (probed once per process).
-inline render::Availability probeAvailability() {
-  static const render::Availability result = [] {
+/// What an OpenGL 4.5 context here runs on, or why none comes up (probed once per process).
+struct Probe {
+  render::Availability availability;
+  std::string renderer;   ///< e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" or the GPU's name
+  bool software = false;  ///< a software rasterizer (llvmpipe)
+};
+inline const Probe& probe() {
+  static const Probe result = [] {
     try {
       EglContext context;
-      return render::Availability{true, ""};
+      return Probe{{true, ""}, context.renderer(), context.isSoftware()};
     } catch (const Error& e) {
-      return render::Availability{false, e.what()};
+      return Probe{{false, e.what()}, "", false};
     }
   }();
   return result;
 }
+inline render::Availability probeAvailability() { return probe().availability; }
 
 }  // namespace cellrelief::gl
