@@ -243,67 +243,56 @@ FacePoint exitPoint(vec3 origin, vec3 w, vec3 p, int skipAxis) {
   return FacePoint(face, faceUV(face, hit), length(hit - p));
 }
 
-FacePoint projectParallel(vec3 p) {
-  const int face = gFaceOrAxis;
-  const float target = facePositive(face) ? 1.0 : 0.0;
-  return FacePoint(face, faceUV(face, p), abs(target - axisOf(p, faceAxis(face))));
-}
-
-FacePoint projectPlanar(vec3 p) {
-  const int axis = gFaceOrAxis;
-  const float x = axisOf(p, axis);
-  const bool upper = x >= 0.5;
-  const int face = makeFace(axis, upper);
-  return FacePoint(face, faceUV(face, p), upper ? 1.0 - x : x);
-}
-
-FacePoint projectPerspective(vec3 p) {
-  const vec3 w = p - gPoint;
-  if (w == vec3(0.0)) {
-    const int f = firstFace(gDomain);
-    const vec3 centre = facePoint(f, vec2(0.5));
-    return FacePoint(f, faceUV(f, centre), length(centre - p));
-  }
-  return exitPoint(gPoint, w, p, -1);
-}
-
 vec3 axialFoot(vec3 p) {
   return withAxis(gPoint, gFaceOrAxis, axisOf(p, gFaceOrAxis));
 }
 
-FacePoint projectAxial(vec3 p) {
-  const vec3 q = axialFoot(p);
-  const vec3 w = p - q;
-  if (w == vec3(0.0)) {
-    const int f = firstFace(gDomain);
-    const vec3 onFace = withAxis(p, faceAxis(f), facePositive(f) ? 1.0 : 0.0);
-    return FacePoint(f, faceUV(f, onFace), length(onFace - p));
-  }
-  return exitPoint(q, w, p, gFaceOrAxis);
+// The projection of the current cell, written for SIMD lanes that may hold cells of different
+// types: llvmpipe runs every branch any lane takes, so the two single-direction projections
+// (parallel, planar) share one path of selects and the two central ones (perspective, axial)
+// share one exitPoint; a variant compiles only the paths its scene has.
+FacePoint projectSingleDirection(vec3 p) {
+#if defined(CR_PARALLEL) && defined(CR_PLANAR)
+  const int face = gProjection == CR_PROJ_PARALLEL ? gFaceOrAxis
+                                                   : makeFace(gFaceOrAxis, axisOf(p, gFaceOrAxis) >= 0.5);
+#elif defined(CR_PARALLEL)
+  const int face = gFaceOrAxis;
+#else
+  const int face = makeFace(gFaceOrAxis, axisOf(p, gFaceOrAxis) >= 0.5);
+#endif
+  // p lies in the unit cell: the distance to the face is 1 - x or x (parallel: |target - x|).
+  const float x = axisOf(p, faceAxis(face));
+  return FacePoint(face, faceUV(face, p), facePositive(face) ? 1.0 - x : x);
 }
 
-// The projection of the current cell. A variant holds only the types its scene uses, so a scene
-// of one type has no switch at all.
-FacePoint project(vec3 p) {
-#if defined(CR_PARALLEL) && (defined(CR_PLANAR) || defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
-  if (gProjection == CR_PROJ_PARALLEL) return projectParallel(p);
-#elif defined(CR_PARALLEL)
-  return projectParallel(p);
-#endif
-#if defined(CR_PLANAR) && (defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
-  if (gProjection == CR_PROJ_PLANAR) return projectPlanar(p);
-#elif defined(CR_PLANAR)
-  return projectPlanar(p);
-#endif
+FacePoint projectCentral(vec3 p) {
 #if defined(CR_PERSPECTIVE) && defined(CR_AXIAL)
-  if (gProjection == CR_PROJ_PERSPECTIVE) return projectPerspective(p);
-  return projectAxial(p);
+  const bool perspective = gProjection == CR_PROJ_PERSPECTIVE;
 #elif defined(CR_PERSPECTIVE)
-  return projectPerspective(p);
-#elif defined(CR_AXIAL)
-  return projectAxial(p);
+  const bool perspective = true;
+#else
+  const bool perspective = false;
 #endif
-#if !defined(CR_PARALLEL) && !defined(CR_PLANAR) && !defined(CR_PERSPECTIVE) && !defined(CR_AXIAL)
+  const vec3 origin = perspective ? gPoint : axialFoot(p);
+  const vec3 w = p - origin;
+  if (w == vec3(0.0)) {  // the centre itself, or a point on the axis
+    const int f = firstFace(gDomain);
+    const vec3 target = perspective ? facePoint(f, vec2(0.5)) : withAxis(p, faceAxis(f), facePositive(f) ? 1.0 : 0.0);
+    return FacePoint(f, faceUV(f, target), length(target - p));
+  }
+  return exitPoint(origin, w, p, perspective ? -1 : gFaceOrAxis);
+}
+
+FacePoint project(vec3 p) {
+#if (defined(CR_PARALLEL) || defined(CR_PLANAR)) && (defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
+  const FacePoint single = projectSingleDirection(p);
+  const FacePoint central = projectCentral(p);
+  return gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR ? single : central;
+#elif defined(CR_PARALLEL) || defined(CR_PLANAR)
+  return projectSingleDirection(p);
+#elif defined(CR_PERSPECTIVE) || defined(CR_AXIAL)
+  return projectCentral(p);
+#else
   return FacePoint(-1, vec2(0.0), 0.0);
 #endif
 }
@@ -410,33 +399,40 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
   // BalancedSearch::linearSteps
   const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
   const int linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
-  float tPrev = t0;
+  float tPrev = t0, tCrossing = t0;
   uint steps = 1u;
+  bool crossed = false;
   for (int i = 1; i <= linear; ++i) {
     const float t = t0 + (t1 - t0) * float(i) / float(linear);
     const float f = field(localPoint(t), fp);
     ++steps;
     if ((fPrev > 0.0) != (f > 0.0)) {
-      float lo = tPrev, hi = t, fLo = fPrev;
-      for (int k = 0; k < P.steps.z; ++k) {
-        const float mid = 0.5 * (lo + hi);
-        const float fm = field(localPoint(mid), fp);
-        ++steps;
-        if ((fm > 0.0) == (fLo > 0.0)) {
-          lo = mid;
-          fLo = fm;
-        } else {
-          hi = mid;
-        }
-      }
-      field(localPoint(hi), fp);
-      return makeHit(hi, fp, steps);
+      crossed = true;
+      tCrossing = t;
+      break;
     }
     fPrev = f;
     tPrev = t;
   }
-  fEnd = fPrev;
-  return missAfter(steps);
+  if (!crossed) {
+    fEnd = fPrev;
+    return missAfter(steps);
+  }
+  // The binary search after the loop, not inside it: llvmpipe would run it on every sample.
+  float lo = tPrev, hi = tCrossing, fLo = fPrev;
+  for (int k = 0; k < P.steps.z; ++k) {
+    const float mid = 0.5 * (lo + hi);
+    const float fm = field(localPoint(mid), fp);
+    ++steps;
+    if ((fm > 0.0) == (fLo > 0.0)) {
+      lo = mid;
+      fLo = fm;
+    } else {
+      hi = mid;
+    }
+  }
+  field(localPoint(hi), fp);
+  return makeHit(hi, fp, steps);
 }
 
 // ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
@@ -544,42 +540,52 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
   if (stored(layer, vec2(axisOf(p0, ua), axisOf(p0, va)), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
   const float edge = float(gTexels - 1);
   while (s < 1.0) {
-    ++steps;
-    const int size = 1 << level, nodes = pyramidSize(level);
-    const float x = x0 + s * dx, y = y0 + s * dy;
-    const int ix = clamp(int(floor((x + nudge(x, dx)) / float(size))), 0, nodes - 1);
-    const int iy = clamp(int(floor((y + nudge(y, dy)) / float(size))), 0, nodes - 1);
+    // The walk skips and descends in a tight loop of its own until a texel cell needs the exact
+    // test, which runs after it (llvmpipe would run that test's code on every node otherwise).
+    bool test = false;
+    int ix = 0, iy = 0;
     float sExit = 1.0;
-    if (dx != 0.0 && !(dx > 0.0 ? x >= edge : x <= 0.0))
-      sExit = min(sExit, (float(dx > 0.0 ? (ix + 1) * size : ix * size) - x0) / dx);
-    if (dy != 0.0 && !(dy > 0.0 ? y >= edge : y <= 0.0))
-      sExit = min(sExit, (float(dy > 0.0 ? (iy + 1) * size : iy * size) - y0) / dy);
-    sExit = max(sExit, s + CR_SKIP_PROGRESS);
-    uint code;
     uint c00 = 0u, c10 = 0u, c01 = 0u, c11 = 0u;
-    if (level > 0) {
-      code = pyramidCode(layer, level, ix, iy);
-    } else {
-      c00 = sampleCode(tile, ix, iy);
-      c10 = sampleCode(tile, ix + 1, iy);
-      c01 = sampleCode(tile, ix, iy + 1);
-      c11 = sampleCode(tile, ix + 1, iy + 1);
-      code = c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode
-                 ? gEmptyCode
-                 : min(min(c00, c10), min(c01, c11));
+    while (s < 1.0) {
+      ++steps;
+      const int size = 1 << level, nodes = pyramidSize(level);
+      const float x = x0 + s * dx, y = y0 + s * dy;
+      ix = clamp(int(floor((x + nudge(x, dx)) / float(size))), 0, nodes - 1);
+      iy = clamp(int(floor((y + nudge(y, dy)) / float(size))), 0, nodes - 1);
+      sExit = 1.0;
+      if (dx != 0.0 && !(dx > 0.0 ? x >= edge : x <= 0.0))
+        sExit = min(sExit, (float(dx > 0.0 ? (ix + 1) * size : ix * size) - x0) / dx);
+      if (dy != 0.0 && !(dy > 0.0 ? y >= edge : y <= 0.0))
+        sExit = min(sExit, (float(dy > 0.0 ? (iy + 1) * size : iy * size) - y0) / dy);
+      sExit = max(sExit, s + CR_SKIP_PROGRESS);
+      uint code;
+      if (level > 0) {
+        code = pyramidCode(layer, level, ix, iy);
+      } else {
+        c00 = sampleCode(tile, ix, iy);
+        c10 = sampleCode(tile, ix + 1, iy);
+        c01 = sampleCode(tile, ix, iy + 1);
+        c11 = sampleCode(tile, ix + 1, iy + 1);
+        code = c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode
+                   ? gEmptyCode
+                   : min(min(c00, c10), min(c01, c11));
+      }
+      const float deepest = max(clamp(depth0 + s * dDepth, 0.0, depthLimit),
+                                clamp(depth0 + min(sExit, 1.0) * dDepth, 0.0, depthLimit));
+      if (code >= gEmptyCode || deepest < float(code) * gDistanceScale) {
+        if (inside) return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
+        s = sExit;
+        level = min(level + 1, top);
+        continue;
+      }
+      if (level > 0) {
+        --level;
+        continue;
+      }
+      test = true;
+      break;
     }
-    const float deepest = max(clamp(depth0 + s * dDepth, 0.0, depthLimit),
-                              clamp(depth0 + min(sExit, 1.0) * dDepth, 0.0, depthLimit));
-    if (code >= gEmptyCode || deepest < float(code) * gDistanceScale) {
-      if (inside) return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
-      s = sExit;
-      level = min(level + 1, top);
-      continue;
-    }
-    if (level > 0) {
-      --level;
-      continue;
-    }
+    if (!test) break;
     // A texel cell: depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
     const float s1 = min(sExit, 1.0);
     const float d00 = float(c00) * gDistanceScale, d10 = float(c10) * gDistanceScale;
@@ -685,6 +691,20 @@ bool gridSpan(vec3 o, vec3 d, float tmin, float tmax, out float t0, out float t1
   return true;
 }
 
+// One DDA step to the next cell; false when the ray leaves the grid or its interval.
+bool advanceCell(inout ivec3 cell, inout vec3 tMax, inout float tCell, float tExit, float tEnd, ivec3 stepDir,
+                 vec3 tDelta, int n) {
+  if (tExit >= tEnd) return false;
+  const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
+  const bvec3 along = bvec3(axis == 0, axis == 1, axis == 2);
+  cell += ivec3(along) * stepDir;
+  const int c = axis == 0 ? cell.x : (axis == 1 ? cell.y : cell.z);
+  if (c < 0 || c >= n) return false;
+  tCell = axisOf(tMax, axis);
+  tMax = mix(tMax, tMax + tDelta, along);
+  return true;
+}
+
 Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
   if (any(isinf(o)) || any(isnan(o)) || any(isinf(d)) || any(isnan(d)) || d == vec3(0.0) || !(tmin <= tmax))
     return noHit();
@@ -714,30 +734,32 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
   float tCell = tStart;
   uint steps = 0u;  // over every grey cell searched
   for (;;) {
-    const float tExit = min(min(tMax.x, tMax.y), min(tMax.z, tEnd));
-    const int index = findCell(cell);
-    if (index >= 0) {
-      selectCell(index);
-      const vec3 cellOrigin = gOrigin + vec3(cell) * h;
-      gLocalOrigin = (o - cellOrigin) / h;
-      gLocalDirection = d / h;
-      Hit hit = searchCell(tCell, tExit);
-      steps += hit.steps;
-      if (hit.cell >= 0) {
-        hit.steps = steps;
-        return hit;
-      }
-    } else {
+    // White and black cells in a tight loop of their own: every lane walks to its next grey cell
+    // (or out of the grid) before the search runs, so the search runs with its lanes busy
+    // (llvmpipe executes a block for all lanes when any lane takes it).
+    int index = -1;
+    float tExit;
+    bool inside = true;
+    for (;;) {
+      tExit = min(min(tMax.x, tMax.y), min(tMax.z, tEnd));
+      index = findCell(cell);
+      if (index >= 0) break;
       gExitField = CR_INF;
+      inside = advanceCell(cell, tMax, tCell, tExit, tEnd, stepDir, tDelta, n);
+      if (!inside) break;
     }
-    if (tExit >= tEnd) break;
-    const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
-    const bvec3 along = bvec3(axis == 0, axis == 1, axis == 2);
-    cell += ivec3(along) * stepDir;
-    const int c = axis == 0 ? cell.x : (axis == 1 ? cell.y : cell.z);
-    if (c < 0 || c >= n) break;
-    tCell = axisOf(tMax, axis);
-    tMax = mix(tMax, tMax + tDelta, along);
+    if (!inside) break;
+    selectCell(index);
+    const vec3 cellOrigin = gOrigin + vec3(cell) * h;
+    gLocalOrigin = (o - cellOrigin) / h;
+    gLocalDirection = d / h;
+    Hit hit = searchCell(tCell, tExit);
+    steps += hit.steps;
+    if (hit.cell >= 0) {
+      hit.steps = steps;
+      return hit;
+    }
+    if (!advanceCell(cell, tMax, tCell, tExit, tEnd, stepDir, tDelta, n)) break;
   }
   return missAfter(steps);
 }
