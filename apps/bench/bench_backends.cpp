@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
               a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes);
       if (!seriesOf.count(r.backend)) {
         seriesOf[r.backend] = series.size();
-        series.push_back({r.backend, {}, {}, app::Plot::palette(series.size()), true});
+        series.push_back({r.backend, {}, {}, app::Plot::palette(series.size()), false});
       }
       app::PlotSeries& s = series[seriesOf[r.backend]];
       s.x.push_back(meshIndex);

@@ -100,7 +100,7 @@ int runCompare(const CompareCli& o) {
       const std::filesystem::path diff =
           std::filesystem::path(o.output) / ("diff_cpu_" + std::string(render::backendName(r.kind)) + ".png");
       io::writePng(render::frameDiffImage(runs[0].frame, r.frame, spacing), diff);
-      std::printf("wrote %s (red: only cpu hit, blue: only %s, grey: depth error, black at a sample spacing)\n",
+      std::printf("wrote %s (red: only cpu hit, blue: only %s, light grey: both, darker with depth error, black at a sample spacing)\n",
                   diff.c_str(), std::string(render::backendName(r.kind)).c_str());
     }
   }

@@ -29,12 +29,13 @@ namespace cellrelief::app {
 namespace {
 
 struct ViewCli {
-  std::string input, backend = "auto", size = "960x720", camera, screenshot;
+  std::string input, backend = "auto", size = "960x720", camera, screenshot, channel = "color";
   int frames = 0;
 };
 
 enum class Channel { Color, Depth, Normal, Cell, Steps };
 constexpr const char* kChannelNames[] = {"color", "depth", "normal", "cell id", "steps per ray"};
+constexpr const char* kChannelKeys[] = {"color", "depth", "normal", "cell", "steps"};
 
 /// The channel as display colors (RGB over the scene's white background).
 Image<std::uint8_t> displayImage(const render::Frame& f, Channel channel) {
@@ -167,6 +168,11 @@ int runView(const ViewCli& o) {
   const Aabbd bounds = scene.boundsWS();
   ViewerState state;
   {
+    bool known = false;
+    for (int c = 0; c < 5; ++c)
+      if (o.channel == kChannelKeys[c]) state.channel = Channel(c), known = true;
+    if (!known)
+      throw Error(ErrorKind::InvalidArgument, "--channel '" + o.channel + "': expected color, depth, normal, cell or steps");
     const render::Camera start = parseCamera(o.camera, bounds);
     state.orbit.target = start.target;
     state.orbit.distance = glm::length(start.eye - start.target);
@@ -294,6 +300,8 @@ Command addViewCommand(CLI::App& app) {
   cmd->add_option("--camera", o->camera, "Starting view: yaw,pitch[,fov] or ex,ey,ez,tx,ty,tz[,fov]");
   cmd->add_option("--frames", o->frames, "Render this many frames, then exit (0: until closed)")
       ->check(CLI::Range(0, 100000));
+  cmd->add_option("--channel", o->channel, "Channel shown first: color, depth, normal, cell or steps")
+      ->capture_default_str();
   cmd->add_option("--screenshot", o->screenshot, "With --frames: write what the window shows at the end (.png)");
   return {cmd, [o]() { return runView(*o); }};
 }

@@ -90,7 +90,7 @@ inline FrameAgreement compareFrames(const Frame& a, const Frame& b, double sampl
 }
 
 /// A picture of the disagreement: red where only `a` hit, blue where only `b` did, grey by depth
-/// error where both hit (white: equal, black: a sample spacing or more).
+/// error where both hit (light grey: equal, black: a sample spacing or more), white where neither.
 inline Image<std::uint8_t> frameDiffImage(const Frame& a, const Frame& b, double sampleSpacing) {
   Image<std::uint8_t> image(a.width, a.height, 3, 255);
   for (int y = 0; y < a.height; ++y)
@@ -99,7 +99,7 @@ inline Image<std::uint8_t> frameDiffImage(const Frame& a, const Frame& b, double
       Vec3f c(1);
       if (ha && hb) {
         const double e = std::abs(double(a.depth.at(x, y, 0)) - double(b.depth.at(x, y, 0))) / sampleSpacing;
-        c = Vec3f(float(1.0 - std::min(1.0, e)));
+        c = Vec3f(float(0.85 * (1.0 - std::min(1.0, e))));
       } else if (ha) {
         c = Vec3f(1, 0, 0);
       } else if (hb) {
