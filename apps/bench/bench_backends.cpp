@@ -170,8 +170,7 @@ int main(int argc, char** argv) {
       Measured m;
     };
     std::vector<Row> rows;
-    for (render::BackendKind kind : {render::BackendKind::Cpu, render::BackendKind::OpenGL, render::BackendKind::Vulkan}) {
-      const render::Availability available = backends::isAvailable(kind);
+    for (const auto& [kind, available] : backends::renderers()) {
       if (!available) {
         std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
         continue;

@@ -57,8 +57,7 @@ int runCompare(const CompareCli& o) {
   options.height = height;
   options.shadows = o.shadows;
   std::vector<Rendered> runs;
-  for (render::BackendKind kind : {render::BackendKind::Cpu, render::BackendKind::OpenGL, render::BackendKind::Vulkan}) {
-    const render::Availability available = backends::isAvailable(kind);
+  for (const auto& [kind, available] : backends::renderers()) {
     if (!available) {
       std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
       continue;

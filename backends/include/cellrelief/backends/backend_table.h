@@ -14,6 +14,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cellrelief/cpu/cpu_backend.h"
 #ifdef CELLRELIEF_HAS_OPENGL
@@ -48,6 +49,19 @@ inline render::Availability isAvailable(render::BackendKind kind) {
 #endif
   }
   return {false, "unknown backend kind"};
+}
+
+/// A renderer (not Auto) and whether it runs here.
+struct RendererStatus {
+  render::BackendKind kind;
+  render::Availability availability;
+};
+/// Every renderer in the table's order (cpu, opengl, vulkan), with whether it runs here and why not.
+inline std::vector<RendererStatus> renderers() {
+  std::vector<RendererStatus> out;
+  for (render::BackendKind k : render::kBackendKinds)
+    if (k != render::BackendKind::Auto) out.push_back({k, isAvailable(k)});
+  return out;
 }
 
 /// The kind "auto" stands for here.
