@@ -6,8 +6,12 @@
 //  - the traversal constants, written from trace/trace_options.h (never typed here),
 //  - the variant: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection types present),
 //    CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SHADOWS,
-//    CR_REFLECTIONS (features used), CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK.
-// Comments name the C++ function each part follows; the reasons are written there.
+//    CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
+//    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels),
+//  - the workgroup size and the number of lights.
+// Comments name the C++ function each part follows; the reasons are written there. The structure
+// differs from the C++ where SIMD lanes need it: a GPU (and llvmpipe, 8 pixels a vector) runs
+// every block any lane of a group takes, so rarely taken work is moved out of the hot loops.
 
 #ifdef CR_VULKAN
 #define CR_BIND(n) set = 0, binding = n
@@ -19,7 +23,6 @@ layout(local_size_x = CR_GROUP_WIDTH, local_size_y = CR_GROUP_HEIGHT, local_size
 
 #define CR_INF uintBitsToFloat(0x7f800000u)
 #define CR_NO_FIELD 1e30  // "not read": beyond any field value (at most CR_EMPTY_FIELD); not NaN, which fast-math drivers may not test
-#define CR_MAX_LIGHTS 8
 
 struct Light {
   vec4 direction;  // towards the light, normalized; w unused

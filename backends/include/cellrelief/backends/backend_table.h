@@ -5,11 +5,12 @@
 /// definitions the `cellrelief::backends` target carries, so a reader sees every backend in one
 /// place and an absent dependency compiles nothing.
 ///
-/// "auto" takes OpenGL on a hardware GPU, else the CPU reference: on a software device
-/// (llvmpipe) bench_backends measured the CPU reference faster on every mesh (docs/backends.md:
-/// 0.1x to 1x, the traversal's divergence idles llvmpipe's 8-wide lanes). The Vulkan backend is
-/// a later issue: until it lands, its row answers "not implemented in this version" rather than
-/// pretending.
+/// "auto" takes OpenGL on a hardware GPU, else the CPU reference. On a software device
+/// (llvmpipe) bench_backends measured OpenGL at 1.8x the CPU on a model of one cell (Igea) but
+/// 0.56x on one of many (the armadillo: divergence idles llvmpipe's 8-wide lanes), and each shader
+/// variant costs llvmpipe 1 to 4 s to compile (docs/backends.md), so the CPU is the safer default
+/// there. The Vulkan backend is a later issue: until it lands, its row answers "not implemented
+/// in this version" rather than pretending.
 #pragma once
 
 #include <memory>
@@ -26,8 +27,8 @@ namespace cellrelief::backends {
 
 /// What --backend takes, for a command line's help.
 inline constexpr const char* kBackendHelp =
-    "auto, cpu, opengl or vulkan (auto: OpenGL on a hardware GPU, else the CPU reference, "
-    "measured faster than OpenGL on llvmpipe; see docs/backends.md)";
+    "auto, cpu, opengl or vulkan (auto: OpenGL on a hardware GPU, else the CPU reference; "
+    "see docs/backends.md)";
 
 /// Whether `kind` can render here; for Auto, whether any backend can.
 inline render::Availability isAvailable(render::BackendKind kind) {

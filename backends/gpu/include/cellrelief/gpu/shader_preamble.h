@@ -73,6 +73,9 @@ struct ShaderVariant {
 /// 256-bit vector, so a group narrower than 8 leaves lanes empty.
 inline constexpr int kGroupWidth = 8, kGroupHeight = 8;
 
+/// Directional lights the shader's uniform block holds.
+inline constexpr int kMaxLights = 8;
+
 namespace detail {
 inline std::string glslFloat(double v) {
   char text[48];
@@ -115,6 +118,7 @@ inline std::string traversalConstants() {
   s += define("CR_NORMALS_OCT", int(relief::NormalFormat::Octahedral16));
   s += define("CR_NORMALS_RGBA", int(relief::NormalFormat::Rgba8));
   s += define("CR_COLORS_RGBA", int(relief::ColorFormat::Rgba8));
+  s += define("CR_MAX_LIGHTS", kMaxLights);
   s += define("CR_GROUP_WIDTH", kGroupWidth);
   s += define("CR_GROUP_HEIGHT", kGroupHeight);
   return s;
