@@ -19,7 +19,9 @@
 #define CR_BIND(n) binding = n
 #endif
 
+#ifndef CR_FRAGMENT
 layout(local_size_x = CR_GROUP_WIDTH, local_size_y = CR_GROUP_HEIGHT, local_size_z = 1) in;
+#endif
 
 #define CR_INF uintBitsToFloat(0x7f800000u)
 #define CR_NO_FIELD 1e30  // "not read": beyond any field value (at most CR_EMPTY_FIELD); not NaN, which fast-math drivers may not test
@@ -922,8 +924,14 @@ vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
 
 // ---- one pixel -----------------------------------------------------------------------------------
 
+// One pixel per invocation of the compute pass, or (CR_FRAGMENT, the paper's way) per fragment
+// of a full-screen pass that the stencil of the rasterized grey cells limits to covered pixels.
 void main() {
+#ifdef CR_FRAGMENT
+  const ivec2 pixel = ivec2(int(gl_FragCoord.x), P.size.y - 1 - int(gl_FragCoord.y));
+#else
   const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+#endif
   const int width = P.size.x, height = P.size.y;
   if (pixel.x >= width || pixel.y >= height) return;
   const int index = pixel.y * width + pixel.x;

@@ -62,6 +62,41 @@ TEST_F(GlBackendTest, TheGeneralShaderAndTheScenesVariantRenderTheSameFrame) {
   expectSameFrames(specialized, fetched, "gather vs four fetches");
 }
 
+TEST_F(GlBackendTest, TheRasterizedEntryRendersTheComputePassesFrame) {
+  // Two models, shadows and a mirror bounce: the paper's way (grey cells into the stencil, the
+  // traversal in a fragment pass on covered pixels) must give exactly the compute pass's frame.
+  render::Scene scene;
+  scene.models = {torus(16, 9), std::make_shared<relief::ReliefModel>(relief::convert(
+                                    [] {
+                                      TriangleMesh m = makeIcosphere(4, 0.5f);
+                                      for (Vec3f& p : m.positions) p += Vec3f(1.6f, 0.2f, 0.0f);
+                                      return m;
+                                    }(),
+                                    {.gridSize = 4, .texels = 17}))};
+  render::RenderOptions options;
+  options.width = 120;
+  options.height = 90;
+  options.reflectionBounces = 1;
+  GlBackend gl;
+  gl.upload(scene);
+  for (const render::Camera& camera :
+       {render::Camera::framing(scene.boundsWS().center(), 0.5 * scene.boundsWS().diagonal(), 35, 20),
+        render::Camera::framing(scene.boundsWS().center(), 0.2 * scene.boundsWS().diagonal(), -70, 50)}) {
+    gl.setRayEntry(RayEntry::Compute);
+    const render::Frame compute = gl.renderFrame(camera, options);
+    gl.setRayEntry(RayEntry::Rasterized);
+    const render::Frame raster = gl.renderFrame(camera, options);
+    EXPECT_EQ(gl.lastRayEntry(), RayEntry::Rasterized);
+    expectSameFrames(compute, raster, "rasterized vs compute");
+  }
+  // With the eye inside the grids, every pixel must run: the backend falls back to compute.
+  render::Camera inside;
+  inside.eye = Vec3d(scene.models[0]->originWS + Vec3d(0.5 * scene.models[0]->cellSizeWS * scene.models[0]->gridSize));
+  inside.target = inside.eye + Vec3d(1, 0, 0);
+  gl.renderFrame(inside, options);
+  EXPECT_EQ(gl.lastRayEntry(), RayEntry::Compute);
+}
+
 TEST_F(GlBackendTest, AModelWithMoreFaceLayersThanArrayLayersRendersAsOnTheCpu) {
   const auto model = torus(64, 5);
   GlBackend gl;

@@ -6,7 +6,7 @@
 /// place and an absent dependency compiles nothing.
 ///
 /// "auto" takes OpenGL on a hardware GPU, else the CPU reference. On a software device
-/// (llvmpipe) bench_backends measured OpenGL at 1.8x the CPU on a model of one cell (Igea) but
+/// (llvmpipe) bench_backends measured OpenGL at 1.7x the CPU on a model of one cell (Igea) but
 /// 0.56x on one of many (the armadillo: divergence idles llvmpipe's 8-wide lanes), and each shader
 /// variant costs llvmpipe 1 to 4 s to compile (docs/backends.md), so the CPU is the safer default
 /// there. The Vulkan backend is a later issue: until it lands, its row answers "not implemented

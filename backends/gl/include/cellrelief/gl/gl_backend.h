@@ -5,11 +5,11 @@
 /// (backends/shaders/relief_trace.comp) as a compute pass over the pixels, on a headless EGL
 /// context (egl_context.h).
 ///
-/// Why a compute pass and not the paper's rasterized boundary faces of the grey cells: the rays
-/// the fragment path would not run (those that visit no grey cell) cost at most 30% (Igea) to
-/// 56% (armadillo) of a frame on llvmpipe, an upper bound (docs/backends.md); the compute pass is
-/// the same on Vulkan, needs no depth/stencil set-up and reads back as one buffer. The fragment
-/// path is open work, to be measured on a GPU.
+/// The paper's way is here too (setRayEntry(RayEntry::Rasterized): grey cells into the stencil,
+/// the same traversal as a fragment pass on the covered pixels). On llvmpipe it measured 0 to 16%
+/// faster (docs/backends.md), within run-to-run noise on two of three meshes; the compute pass
+/// stays the default because it is what Vulkan shares, needs no framebuffer and does not depend
+/// on where the eye is.
 ///
 /// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with
 /// only the projection types, maps and features present (gpu/shader_preamble.h); variants are
@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -47,6 +48,19 @@ struct FrameParams {
   std::int32_t offsets[4]; ///< normal, mask, cell and steps offsets
 };
 
+/// How the traversal reaches the pixels: a compute pass over all of them, or the paper's way, the
+/// grey cells rasterized into the stencil and the traversal run in a fragment pass on the covered
+/// pixels only (docs/backends.md compares them). Both give the same frame.
+enum class RayEntry { Compute, Rasterized };
+
+/// The std140 uniform block `Cover` of cell_cover.vert.
+struct CoverParams {
+  float viewProjection[16];  ///< column-major
+  float originAndCellSize[4];
+  float dilation[4];
+  std::int32_t cellOffset[4];
+};
+
 class GlBackend final : public render::Backend {
  public:
   GlBackend() : mContext(std::make_unique<EglContext>()) { queryLimits(); }
@@ -60,6 +74,11 @@ class GlBackend final : public render::Backend {
     for (auto& [name, program] : mPrograms) glDeleteProgram(program);
     if (mFrameBuffer) glDeleteBuffers(1, &mFrameBuffer);
     if (mParamsBuffer) glDeleteBuffers(1, &mParamsBuffer);
+    if (mCoverBuffer) glDeleteBuffers(1, &mCoverBuffer);
+    if (mCoverProgram) glDeleteProgram(mCoverProgram);
+    if (mStencilFramebuffer) glDeleteFramebuffers(1, &mStencilFramebuffer);
+    if (mStencil) glDeleteRenderbuffers(1, &mStencil);
+    if (mEmptyVertexArray) glDeleteVertexArrays(1, &mEmptyVertexArray);
     if (mTimer) glDeleteQueries(1, &mTimer);
   }
 
@@ -109,7 +128,8 @@ class GlBackend final : public render::Backend {
       throw Error(ErrorKind::InvalidArgument, "OpenGL backend: empty frame size");
     mContext->makeCurrent();
     const gpu::ShaderVariant variant = variantFor(options);
-    const GLuint program = programFor(variant);
+    const bool rasterized = mEntry == RayEntry::Rasterized && eyeOutsideScene(camera);
+    const GLuint program = programFor(variant, rasterized);
     // The layout holds every channel the shader writes (the general one writes all of them);
     // readBack() copies those the caller asked for.
     const FrameLayout layout = frameLayout(options, variant.channels);
@@ -124,8 +144,13 @@ class GlBackend final : public render::Backend {
     for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
     if (!mTimer) glGenQueries(1, &mTimer);
     glBeginQuery(GL_TIME_ELAPSED, mTimer);
-    const int gw = gpu::kGroupWidth, gh = gpu::kGroupHeight;
-    glDispatchCompute(GLuint((options.width + gw - 1) / gw), GLuint((options.height + gh - 1) / gh), 1);
+    mLastEntry = rasterized ? RayEntry::Rasterized : RayEntry::Compute;
+    if (rasterized) {
+      renderRasterized(camera, options, layout, program);
+    } else {
+      const int gw = gpu::kGroupWidth, gh = gpu::kGroupHeight;
+      glDispatchCompute(GLuint((options.width + gw - 1) / gw), GLuint((options.height + gh - 1) / gh), 1);
+    }
     glEndQuery(GL_TIME_ELAPSED);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     mLayout = layout;
@@ -169,6 +194,11 @@ class GlBackend final : public render::Backend {
   void setGeneralShader(bool general) { mGeneral = general; }
   /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
   void setGather(bool gather) { mGather = gather; }
+  /// Compute pass over all pixels (the default) or rasterized grey cells and a fragment pass. The
+  /// rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
+  void setRayEntry(RayEntry entry) { mEntry = entry; }
+  /// How the last render reached its pixels.
+  RayEntry lastRayEntry() const { return mLastEntry; }
   /// The variant the next render with these options uses.
   gpu::ShaderVariant variantFor(const render::RenderOptions& options) const {
     gpu::ShaderVariant v = mGeneral ? gpu::ShaderVariant::general()
@@ -186,6 +216,7 @@ class GlBackend final : public render::Backend {
   struct FrameLayout {
     int width = 0, height = 0;
     unsigned channels = 0;
+    unsigned written = 0;  ///< the channels the shader writes
     std::size_t color = 0, depth = 0, normal = 0, mask = 0, cell = 0, steps = 0, words = 0;
   };
 
@@ -206,6 +237,7 @@ class GlBackend final : public render::Backend {
     l.width = o.width;
     l.height = o.height;
     l.channels = o.channels;
+    l.written = written;
     const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
     std::size_t at = 0;
     auto take = [&](unsigned channel, std::size_t perPixel, std::size_t& offset) {
@@ -318,37 +350,179 @@ class GlBackend final : public render::Backend {
     return texture;
   }
 
-  GLuint programFor(const gpu::ShaderVariant& variant) {
-    const std::string key = variant.name() + "#" + std::to_string(variant.channels);
+  GLuint programFor(const gpu::ShaderVariant& variant, bool fragment) {
+    const std::string key = variant.name() + "#" + std::to_string(variant.channels) + (fragment ? "#fragment" : "");
     if (auto it = mPrograms.find(key); it != mPrograms.end()) return it->second;
     const auto t0 = std::chrono::steady_clock::now();
-    const std::string source = gpu::reliefTraceShader(variant, false);
-    const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-    const char* text = source.c_str();
-    glShaderSource(shader, 1, &text, nullptr);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      const std::string log = shaderLog(shader, false);
-      glDeleteShader(shader);
-      throw Error(ErrorKind::Unsupported, "OpenGL backend: the traversal shader (variant " + variant.name() +
-                                              ") does not compile on " + mContext->renderer() + ":\n" + log);
-    }
-    const GLuint program = glCreateProgram();
-    glAttachShader(program, shader);
-    glLinkProgram(program);
-    glDeleteShader(shader);
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      const std::string log = shaderLog(program, true);
-      glDeleteProgram(program);
-      throw Error(ErrorKind::Unsupported, "OpenGL backend: the traversal shader (variant " + variant.name() +
-                                              ") does not link on " + mContext->renderer() + ":\n" + log);
-    }
+    const std::string what = "the traversal shader (variant " + variant.name() + (fragment ? ", fragment" : "") + ")";
+    const GLuint program = fragment ? linkProgram({{GL_VERTEX_SHADER, kFullScreenVert},
+                                                   {GL_FRAGMENT_SHADER, gpu::reliefTraceShader(variant, false, true)}},
+                                                  what)
+                                    : linkProgram({{GL_COMPUTE_SHADER, gpu::reliefTraceShader(variant, false)}}, what);
     mCompileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     mPrograms[key] = program;
     return program;
+  }
+
+  /// A full-screen triangle for the fragment pass of the rasterized entry.
+  static constexpr const char* kFullScreenVert =
+      "#version 450\nvoid main() {\n"
+      "  const vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+      "  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n}\n";
+
+  /// Compiles and links the stages; an Error with the driver's log when one fails.
+  GLuint linkProgram(const std::vector<std::pair<GLenum, std::string>>& stages, const std::string& what) {
+    const GLuint program = glCreateProgram();
+    std::vector<GLuint> shaders;
+    auto fail = [&](const std::string& verb, const std::string& log) {
+      for (GLuint sh : shaders) glDeleteShader(sh);
+      glDeleteProgram(program);
+      throw Error(ErrorKind::Unsupported,
+                  "OpenGL backend: " + what + " does not " + verb + " on " + mContext->renderer() + ":\n" + log);
+    };
+    for (const auto& [stage, source] : stages) {
+      const GLuint shader = glCreateShader(stage);
+      shaders.push_back(shader);
+      const char* text = source.c_str();
+      glShaderSource(shader, 1, &text, nullptr);
+      glCompileShader(shader);
+      GLint ok = 0;
+      glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+      if (!ok) fail("compile", shaderLog(shader, false));
+      glAttachShader(program, shader);
+    }
+    glLinkProgram(program);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) fail("link", shaderLog(program, true));
+    for (GLuint sh : shaders) glDeleteShader(sh);
+    return program;
+  }
+
+  /// Whether the eye lies outside every model's grid (with a margin): then every ray enters the
+  /// grids from outside, where the rasterized cells show it.
+  bool eyeOutsideScene(const render::Camera& camera) const {
+    const Aabbd bounds = mScene.boundsWS();
+    const Vec3d margin(0.01 * bounds.diagonal());
+    return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||
+           glm::any(glm::greaterThan(camera.eye, bounds.max + margin));
+  }
+
+  /// The paper's way: grey cells into the stencil, then the traversal on the covered pixels.
+  /// Pixels no grey cell covers get the miss values first (their rays visit no grey cell).
+  void renderRasterized(const render::Camera& camera, const render::RenderOptions& o, const FrameLayout& layout,
+                        GLuint traversal) {
+    clearToMisses(layout, o);
+    ensureStencil(o.width, o.height);
+    if (!mCoverProgram)
+      mCoverProgram = linkProgram({{GL_VERTEX_SHADER, std::string(gpu::kCellCoverVert)},
+                                   {GL_FRAGMENT_SHADER, "#version 450\nvoid main() {}\n"}},
+                                  "the cell cover shader");
+    if (!mEmptyVertexArray) glCreateVertexArrays(1, &mEmptyVertexArray);
+    if (!mCoverBuffer) glCreateBuffers(1, &mCoverBuffer), glNamedBufferStorage(mCoverBuffer, sizeof(CoverParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glBindFramebuffer(GL_FRAMEBUFFER, mStencilFramebuffer);
+    glViewport(0, 0, o.width, o.height);
+    const GLint zero = 0;
+    glClearNamedFramebufferiv(mStencilFramebuffer, GL_STENCIL, 0, &zero);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_ALWAYS, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glBindVertexArray(mEmptyVertexArray);
+    glUseProgram(mCoverProgram);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, mBuffers[1]);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 10, mCoverBuffer);
+    for (std::size_t m = 0; m < mScene.models.size(); ++m) {
+      const CoverParams cover = coverParams(camera, o, m);
+      glNamedBufferSubData(mCoverBuffer, 0, sizeof cover, &cover);
+      glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(mScene.models[m]->cells.size()));
+    }
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    glUseProgram(traversal);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDisable(GL_STENCIL_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+
+  /// The miss values of every channel: what a ray that meets no grey cell writes.
+  void clearToMisses(const FrameLayout& layout, const render::RenderOptions& o) const {
+    const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
+    auto fill = [&](unsigned channel, std::size_t offset, std::size_t words, std::uint32_t value) {
+      if (layout.written & channel)
+        glClearNamedBufferSubData(mFrameBuffer, GL_R32UI, GLintptr(offset * 4), GLsizeiptr(words * 4), GL_RED_INTEGER,
+                                  GL_UNSIGNED_INT, &value);
+    };
+    std::uint32_t background = 0;
+    for (int c = 0; c < 4; ++c)
+      background |= std::uint32_t(std::floor(255.0f * std::clamp(mScene.background[c], 0.0f, 1.0f) + 0.5f)) << (8 * c);
+    const float inf = std::numeric_limits<float>::infinity(), minusOne = -1.0f;
+    std::uint32_t infBits = 0, minusOneBits = 0;
+    std::memcpy(&infBits, &inf, 4);
+    std::memcpy(&minusOneBits, &minusOne, 4);
+    fill(render::kColor, layout.color, pixels, background);
+    fill(render::kDepth, layout.depth, pixels, infBits);
+    fill(render::kNormal, layout.normal, 3 * pixels, 0u);
+    fill(render::kMask, layout.mask, pixels, 0u);
+    fill(render::kCell, layout.cell, pixels, minusOneBits);
+    fill(render::kSteps, layout.steps, pixels, 0u);
+  }
+
+  void ensureStencil(int width, int height) {
+    if (mStencil && mStencilWidth == width && mStencilHeight == height) return;
+    if (mStencil) glDeleteRenderbuffers(1, &mStencil);
+    if (!mStencilFramebuffer) glCreateFramebuffers(1, &mStencilFramebuffer);
+    glCreateRenderbuffers(1, &mStencil);
+    glNamedRenderbufferStorage(mStencil, GL_STENCIL_INDEX8, width, height);
+    glNamedFramebufferRenderbuffer(mStencilFramebuffer, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER, mStencil);
+    glNamedFramebufferDrawBuffer(mStencilFramebuffer, GL_NONE);
+    if (glCheckNamedFramebufferStatus(mStencilFramebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw Error(ErrorKind::Unsupported, "OpenGL backend: a stencil-only framebuffer is not supported on " +
+                                              mContext->renderer());
+    mStencilWidth = width;
+    mStencilHeight = height;
+  }
+
+  /// The camera as a projection whose pixel centres are Camera::primaryRay's, and each cell's box
+  /// enlarged by two pixels at the farthest point of the scene (so no ray that grazes a grey cell
+  /// is lost to the rasterizer's rounding).
+  CoverParams coverParams(const render::Camera& camera, const render::RenderOptions& o, std::size_t model) const {
+    const Vec3d forward = glm::normalize(camera.target - camera.eye);
+    Vec3d side = glm::cross(forward, camera.up);
+    if (glm::length(side) < 1e-9 * glm::length(camera.up)) side = glm::cross(forward, Vec3d(0, 0, 1));
+    if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
+    const Vec3d right = glm::normalize(side), up = glm::cross(right, forward);
+    const double tanHalf = std::tan(0.5 * camera.verticalFovDegrees * M_PI / 180);
+    const double aspect = double(o.width) / double(o.height);
+    const Aabbd bounds = mScene.boundsWS();
+    double farthest = 0;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3d corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
+                         (c & 4) ? bounds.max.z : bounds.min.z);
+      const double d = glm::dot(corner - camera.eye, forward);
+      farthest = std::max(farthest, d);
+    }
+    const Vec3d closest = glm::clamp(camera.eye, bounds.min, bounds.max);
+    const double nearPlane = std::max(1e-9 * bounds.diagonal(), 0.5 * glm::length(closest - camera.eye));
+    const double farPlane = 2 * std::max(farthest, nearPlane) + bounds.diagonal();
+    const double a = (farPlane + nearPlane) / (farPlane - nearPlane), b = 2 * farPlane * nearPlane / (farPlane - nearPlane);
+    const Vec3d rows[4] = {right / (tanHalf * aspect), up / tanHalf, a * forward, forward};
+    const double offsets[4] = {-glm::dot(rows[0], camera.eye), -glm::dot(rows[1], camera.eye),
+                               -glm::dot(rows[2], camera.eye) - b, -glm::dot(rows[3], camera.eye)};
+    CoverParams p{};
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 3; ++c) p.viewProjection[c * 4 + r] = float(rows[r][c]);
+      p.viewProjection[12 + r] = float(offsets[r]);
+    }
+    const relief::ReliefModel& m = *mScene.models[model];
+    for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
+    p.originAndCellSize[3] = float(m.cellSizeWS);
+    const double pixelWS = 2 * tanHalf * std::max(farthest, 0.0) / double(o.height);
+    p.dilation[0] = float(std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
+    p.cellOffset[0] = mGpu.models[model].cellOffset;
+    return p;
   }
 
   static std::string shaderLog(GLuint object, bool program) {
@@ -379,6 +553,9 @@ class GlBackend final : public render::Backend {
   GLuint mBuffers[4] = {0, 0, 0, 0};   ///< models, cells, hash, pyramid
   GLuint mTextures[4] = {0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
+  GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;
+  int mStencilWidth = 0, mStencilHeight = 0;
+  RayEntry mEntry = RayEntry::Compute, mLastEntry = RayEntry::Compute;
   std::size_t mFrameWords = 0;
   std::map<std::string, GLuint> mPrograms;
   FrameLayout mLayout;

@@ -160,10 +160,12 @@ inline std::string reliefTraceBody() {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// The whole compute shader for a variant: version, API switch, constants, variant, body.
-inline std::string reliefTraceShader(const ShaderVariant& v, bool vulkan) {
+/// The whole traversal shader for a variant: version, API switch, constants, variant, body. A
+/// compute shader, or with `fragment` the fragment shader of the rasterized entry.
+inline std::string reliefTraceShader(const ShaderVariant& v, bool vulkan, bool fragment = false) {
   std::string s = "#version 450\n";
   if (vulkan) s += "#define CR_VULKAN\n";
+  if (fragment) s += "#define CR_FRAGMENT\n";
   s += traversalConstants();
   s += variantDefines(v);
   s += "#line 1\n";
