@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "cellrelief/gl/egl_context.h"
 #include "cellrelief/gpu/gpu_layout.h"
 #include "cellrelief/gpu/shader_preamble.h"
@@ -230,6 +232,33 @@ class GlBackend final : public render::Backend {
     mLimits.maxTextureSize = size > 0 ? size : 2048;
     mLimits.maxArrayLayers = layers > 0 ? layers : 256;
     mLimits.maxStorageBytes = block64 > 0 ? std::size_t(block64) : std::size_t(block > 0 ? block : 1 << 27);
+    mLimits.maxTotalBytes = deviceMemoryBytes();
+  }
+
+  /// What the device can hold, so that a scene beyond it is refused by name before the upload:
+  /// NVIDIA's total (GL_NVX_gpu_memory_info), AMD's free texture memory (GL_ATI_meminfo), half
+  /// the machine's memory for a software rasterizer (its "device memory" is the heap), else
+  /// unknown (0: the upload's GL_OUT_OF_MEMORY is the check).
+  std::size_t deviceMemoryBytes() const {
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    bool nvx = false, ati = false;
+    for (GLint i = 0; i < count; ++i) {
+      const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+      nvx |= e && std::strcmp(e, "GL_NVX_gpu_memory_info") == 0;
+      ati |= e && std::strcmp(e, "GL_ATI_meminfo") == 0;
+    }
+    GLint kib[4] = {0, 0, 0, 0};
+    if (nvx) glGetIntegerv(0x9048 /* GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX */, kib);
+    else if (ati) glGetIntegerv(0x87FC /* GL_TEXTURE_FREE_MEMORY_ATI */, kib);
+    for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
+    }  // a query the driver refused leaves kib[0] at 0
+    if (kib[0] > 0) return std::size_t(kib[0]) * 1024;
+    if (mContext->isSoftware()) {
+      const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+      if (pages > 0 && page > 0) return std::size_t(pages) * std::size_t(page) / 2;
+    }
+    return 0;
   }
 
   FrameLayout frameLayout(const render::RenderOptions& o, unsigned written) const {
