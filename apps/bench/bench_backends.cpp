@@ -184,10 +184,11 @@ int main(int argc, char** argv) {
         gl->setGeneralShader(true);
         rows.push_back({"opengl-general", "the one shader with every projection, map and feature",
                         measureBackend(*backend, scene, camera, size, repeats, options.threads)});
-        // The paper's way: grey cells rasterized into the stencil, the traversal on covered pixels.
+        // The default enters the rays the paper's way (grey cells rasterized); the alternative is
+        // a compute pass over every pixel.
         gl->setGeneralShader(false);
-        gl->setRayEntry(gl::RayEntry::Rasterized);
-        rows.push_back({"opengl-raster", "grey cells rasterized, the traversal as a fragment pass on covered pixels",
+        gl->setRayEntry(gl::RayEntry::Compute);
+        rows.push_back({"opengl-compute", "the traversal as a compute pass over every pixel",
                         measureBackend(*backend, scene, camera, size, repeats, options.threads)});
       }
 #endif

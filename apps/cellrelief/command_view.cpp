@@ -188,9 +188,14 @@ int runView(const ViewCli& o) {
   backend->upload(scene);
 
   if (!glfwInit()) throw Error(ErrorKind::Unsupported, "view: GLFW cannot start (no display? run under xvfb-run)");
+  // The backend goes before GLFW: glfwTerminate ends EGL, which the backend's context may share.
   struct Terminate {
-    ~Terminate() { glfwTerminate(); }
-  } terminate;
+    std::unique_ptr<render::Backend>& backend;
+    ~Terminate() {
+      backend.reset();
+      glfwTerminate();
+    }
+  } terminate{backend};
   glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
@@ -228,6 +233,7 @@ int runView(const ViewCli& o) {
     }
     int fbW = 0, fbH = 0;
     glfwGetFramebufferSize(window, &fbW, &fbH);
+    if (fbW != textureW || fbH != textureH) state.dirty = true;  // resized: the old frame no longer fits
     if (state.dirty && fbW > 0 && fbH > 0) {
       render::RenderOptions options;
       options.width = fbW;
@@ -274,7 +280,6 @@ int runView(const ViewCli& o) {
   }
   glDeleteFramebuffers(1, &framebuffer);
   glDeleteTextures(1, &texture);
-  backend.reset();
   glfwDestroyWindow(window);
   return 0;
 }

@@ -19,7 +19,11 @@
 #define CR_BIND(n) binding = n
 #endif
 
-#ifndef CR_FRAGMENT
+#ifdef CR_FRAGMENT
+// The stencil of the rasterized cells must cull fragments before the shader runs: a shader that
+// writes storage buffers otherwise runs for every pixel and is tested afterwards.
+layout(early_fragment_tests) in;
+#else
 layout(local_size_x = CR_GROUP_WIDTH, local_size_y = CR_GROUP_HEIGHT, local_size_z = 1) in;
 #endif
 

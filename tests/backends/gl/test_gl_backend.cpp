@@ -31,14 +31,16 @@ std::shared_ptr<const relief::ReliefModel> torus(int grid, int texels) {
       relief::convert(makeTorus(1.0f, 0.35f, 192, 96), {.gridSize = grid, .texels = texels}));
 }
 
-void expectSameFrames(const render::Frame& a, const render::Frame& b, const char* what) {
-  const render::FrameAgreement r = render::compareFrames(a, b, 1e-3);
+/// Two renderings of one algorithm: equal on llvmpipe (measured), and within the rounding another
+/// compiler may choose differently per program (fused multiply-adds) elsewhere.
+void expectSameFrames(const render::Frame& a, const render::Frame& b, double spacing, const char* what) {
+  const render::FrameAgreement r = render::compareFrames(a, b, spacing);
   EXPECT_GT(r.bothHit, 500u) << what;
-  EXPECT_EQ(r.maskDiffers, 0u) << what;
-  EXPECT_EQ(r.maxTexels, 0.0) << what;
-  EXPECT_EQ(r.p99Color, 0.0) << what;
-  EXPECT_EQ(r.cellFraction, 0.0) << what;
-  EXPECT_EQ(r.meanSteps, 0.0) << what;
+  EXPECT_LE(r.maskFraction, 2.5e-4) << what;
+  EXPECT_LE(r.maxTexels, 0.05) << what;
+  EXPECT_LE(r.p99Color, 1.0) << what;
+  EXPECT_LE(r.cellFraction, 2.5e-4) << what;
+  EXPECT_LE(r.meanSteps, 0.05) << what;
 }
 
 TEST_F(GlBackendTest, TheGeneralShaderAndTheScenesVariantRenderTheSameFrame) {
@@ -55,11 +57,11 @@ TEST_F(GlBackendTest, TheGeneralShaderAndTheScenesVariantRenderTheSameFrame) {
   const render::Frame specialized = gl.renderFrame(camera, options);
   gl.setGeneralShader(true);
   const render::Frame general = gl.renderFrame(camera, options);
-  expectSameFrames(specialized, general, "general vs specialized");
+  expectSameFrames(specialized, general, 1.0 / 8 / 16, "general vs specialized");
   gl.setGeneralShader(false);
   gl.setGather(false);
   const render::Frame fetched = gl.renderFrame(camera, options);
-  expectSameFrames(specialized, fetched, "gather vs four fetches");
+  expectSameFrames(specialized, fetched, 1.0 / 8 / 16, "gather vs four fetches");
 }
 
 TEST_F(GlBackendTest, TheRasterizedEntryRendersTheComputePassesFrame) {
@@ -87,7 +89,14 @@ TEST_F(GlBackendTest, TheRasterizedEntryRendersTheComputePassesFrame) {
     gl.setRayEntry(RayEntry::Rasterized);
     const render::Frame raster = gl.renderFrame(camera, options);
     EXPECT_EQ(gl.lastRayEntry(), RayEntry::Rasterized);
-    expectSameFrames(compute, raster, "rasterized vs compute");
+    expectSameFrames(compute, raster, 1.0 / 16 / 8, "rasterized vs compute");
+    // The stencil must really limit the fragment pass: boxes shrunk to a fifth of a cell drop
+    // hits (a pass that ran everywhere would still show them all).
+    gl.setCoverDilation(-0.4);
+    const render::Frame shrunk = gl.renderFrame(camera, options);
+    gl.setCoverDilation(std::nullopt);
+    const render::FrameAgreement dropped = render::compareFrames(compute, shrunk, 1.0);
+    EXPECT_GT(dropped.maskDiffers, (dropped.bothHit + dropped.maskDiffers) / 4);
   }
   // With the eye inside the grids, every pixel must run: the backend falls back to compute.
   render::Camera inside;
@@ -118,7 +127,7 @@ TEST_F(GlBackendTest, AModelWithMoreFaceLayersThanArrayLayersRendersAsOnTheCpu) 
 
 TEST_F(GlBackendTest, AShaderThatDoesNotCompileIsAnErrorWithTheDriversLog) {
   test::TempDir dir;
-  test::writeBytes(dir / "broken.comp", "layout(local_size_x = 8) in;\nvoid main() { undefinedFunction(); }\n");
+  test::writeBytes(dir / "broken.comp", "void main() { undefinedFunction(); }\n");
   setenv("CELLRELIEF_SHADER_OVERRIDE", (dir / "broken.comp").c_str(), 1);
   GlBackend gl;
   gl.upload(render::Scene::of(torus(4, 9)));

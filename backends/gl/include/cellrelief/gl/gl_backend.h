@@ -2,14 +2,13 @@
 /// @file gl_backend.h
 /// The OpenGL 4.5 backend: the scene in the GPU layout (gpu/gpu_layout.h: cell table and hash
 /// lookup in storage buffers, maps in integer array-texture atlases) and the one GLSL traversal
-/// (backends/shaders/relief_trace.comp) as a compute pass over the pixels, on a headless EGL
-/// context (egl_context.h).
+/// (backends/shaders/relief_trace.comp), on a headless EGL context (egl_context.h).
 ///
-/// The paper's way is here too (setRayEntry(RayEntry::Rasterized): grey cells into the stencil,
-/// the same traversal as a fragment pass on the covered pixels). On llvmpipe it measured 0 to 16%
-/// faster (docs/backends.md), within run-to-run noise on two of three meshes; the compute pass
-/// stays the default because it is what Vulkan shares, needs no framebuffer and does not depend
-/// on where the eye is.
+/// By default the traversal runs the paper's way: the grey cells are rasterized into a stencil and
+/// the traversal runs as a fragment pass on the covered pixels only (early fragment tests). It
+/// measured 1.3x to 2.1x the compute pass over all pixels on llvmpipe (docs/backends.md), with the
+/// same frame; the compute pass (setRayEntry(RayEntry::Compute)) remains, and is used whenever the
+/// eye is inside a model's grid.
 ///
 /// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with
 /// only the projection types, maps and features present (gpu/shader_preamble.h); variants are
@@ -21,6 +20,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,9 +50,9 @@ struct FrameParams {
   std::int32_t offsets[4]; ///< normal, mask, cell and steps offsets
 };
 
-/// How the traversal reaches the pixels: a compute pass over all of them, or the paper's way, the
-/// grey cells rasterized into the stencil and the traversal run in a fragment pass on the covered
-/// pixels only (docs/backends.md compares them). Both give the same frame.
+/// How the traversal reaches the pixels: the paper's way (the default), the grey cells rasterized
+/// into the stencil and the traversal run in a fragment pass on the covered pixels only, or a
+/// compute pass over all of them (docs/backends.md compares them). Both give the same frame.
 enum class RayEntry { Compute, Rasterized };
 
 /// The std140 uniform block `Cover` of cell_cover.vert.
@@ -129,9 +129,12 @@ class GlBackend final : public render::Backend {
     if (options.width < 1 || options.height < 1)
       throw Error(ErrorKind::InvalidArgument, "OpenGL backend: empty frame size");
     mContext->makeCurrent();
+    mRendered = false;  // a render that fails leaves nothing to read back
+    checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
     const bool rasterized = mEntry == RayEntry::Rasterized && eyeOutsideScene(camera);
     const GLuint program = programFor(variant, rasterized);
+    if (rasterized) prepareRasterized(options);  // before the timer query: these may throw
     // The layout holds every channel the shader writes (the general one writes all of them);
     // readBack() copies those the caller asked for.
     const FrameLayout layout = frameLayout(options, variant.channels);
@@ -166,6 +169,14 @@ class GlBackend final : public render::Backend {
     glGetNamedBufferSubData(mFrameBuffer, 0, GLsizeiptr(words.size() * 4), words.data());
     GLuint64 nanoseconds = 0;
     glGetQueryObjectui64v(mTimer, GL_QUERY_RESULT, &nanoseconds);
+    // A frame the driver failed to render must not pass as an image (a reset, an out-of-memory
+    // at dispatch): the error is checked once the work has finished.
+    if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+      mRendered = false;
+      throw Error(e == GL_OUT_OF_MEMORY ? ErrorKind::ResourceLimit : ErrorKind::Unsupported,
+                  "OpenGL backend: rendering the frame failed on " + mContext->renderer() + " (GL error " +
+                      std::to_string(e) + ")");
+    }
     // llvmpipe's timer queries do not see compute dispatches (they read about 0): no device clock.
     mGpuSeconds = mContext->isSoftware() ? 0.0 : double(nanoseconds) * 1e-9;
     const int w = mLayout.width, h = mLayout.height;
@@ -196,11 +207,14 @@ class GlBackend final : public render::Backend {
   void setGeneralShader(bool general) { mGeneral = general; }
   /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
   void setGather(bool gather) { mGather = gather; }
-  /// Compute pass over all pixels (the default) or rasterized grey cells and a fragment pass. The
-  /// rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
+  /// Rasterized grey cells and a fragment pass (the default), or a compute pass over all pixels.
+  /// The rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
   void setRayEntry(RayEntry entry) { mEntry = entry; }
   /// How the last render reached its pixels.
   RayEntry lastRayEntry() const { return mLastEntry; }
+  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them):
+  /// for tests that check the stencil really limits the fragment pass.
+  void setCoverDilation(std::optional<double> cells) { mCoverDilation = cells; }
   /// The variant the next render with these options uses.
   gpu::ShaderVariant variantFor(const render::RenderOptions& options) const {
     gpu::ShaderVariant v = mGeneral ? gpu::ShaderVariant::general()
@@ -232,6 +246,8 @@ class GlBackend final : public render::Backend {
     mLimits.maxTextureSize = size > 0 ? size : 2048;
     mLimits.maxArrayLayers = layers > 0 ? layers : 256;
     mLimits.maxStorageBytes = block64 > 0 ? std::size_t(block64) : std::size_t(block > 0 ? block : 1 << 27);
+    // The shader indexes buffers with 32-bit ints: no buffer beyond 2^31 bytes, whatever the driver.
+    mLimits.maxStorageBytes = std::min<std::size_t>(mLimits.maxStorageBytes, std::size_t(1) << 31);
     mLimits.maxTotalBytes = deviceMemoryBytes();
   }
 
@@ -439,9 +455,8 @@ class GlBackend final : public render::Backend {
 
   /// The paper's way: grey cells into the stencil, then the traversal on the covered pixels.
   /// Pixels no grey cell covers get the miss values first (their rays visit no grey cell).
-  void renderRasterized(const render::Camera& camera, const render::RenderOptions& o, const FrameLayout& layout,
-                        GLuint traversal) {
-    clearToMisses(layout, o);
+  /// What the rasterized entry needs, made before a frame starts (creation may throw).
+  void prepareRasterized(const render::RenderOptions& o) {
     ensureStencil(o.width, o.height);
     if (!mCoverProgram)
       mCoverProgram = linkProgram({{GL_VERTEX_SHADER, std::string(gpu::kCellCoverVert)},
@@ -449,6 +464,26 @@ class GlBackend final : public render::Backend {
                                   "the cell cover shader");
     if (!mEmptyVertexArray) glCreateVertexArrays(1, &mEmptyVertexArray);
     if (!mCoverBuffer) glCreateBuffers(1, &mCoverBuffer), glNamedBufferStorage(mCoverBuffer, sizeof(CoverParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+
+  /// A frame the device cannot dispatch or rasterize in one piece is refused by its size.
+  void checkFrameSize(const render::RenderOptions& o) const {
+    GLint groupsX = 0, groupsY = 0, renderbuffer = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groupsX);
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groupsY);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+    const bool computeFits = (o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth <= groupsX &&
+                             (o.height + gpu::kGroupHeight - 1) / gpu::kGroupHeight <= groupsY;
+    const bool rasterFits = mEntry != RayEntry::Rasterized || (o.width <= renderbuffer && o.height <= renderbuffer);
+    if (!computeFits || !rasterFits)
+      throw Error(ErrorKind::ResourceLimit, "OpenGL backend: a " + std::to_string(o.width) + "x" +
+                                                std::to_string(o.height) + " frame is beyond what " +
+                                                mContext->renderer() + " renders in one pass");
+  }
+
+  void renderRasterized(const render::Camera& camera, const render::RenderOptions& o, const FrameLayout& layout,
+                        GLuint traversal) {
+    clearToMisses(layout, o);
     glBindFramebuffer(GL_FRAMEBUFFER, mStencilFramebuffer);
     glViewport(0, 0, o.width, o.height);
     const GLint zero = 0;
@@ -549,7 +584,7 @@ class GlBackend final : public render::Backend {
     for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
     p.originAndCellSize[3] = float(m.cellSizeWS);
     const double pixelWS = 2 * tanHalf * std::max(farthest, 0.0) / double(o.height);
-    p.dilation[0] = float(std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
+    p.dilation[0] = float(mCoverDilation ? *mCoverDilation : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
     p.cellOffset[0] = mGpu.models[model].cellOffset;
     return p;
   }
@@ -584,7 +619,8 @@ class GlBackend final : public render::Backend {
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
   GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;
   int mStencilWidth = 0, mStencilHeight = 0;
-  RayEntry mEntry = RayEntry::Compute, mLastEntry = RayEntry::Compute;
+  RayEntry mEntry = RayEntry::Rasterized, mLastEntry = RayEntry::Compute;
+  std::optional<double> mCoverDilation;
   std::size_t mFrameWords = 0;
   std::map<std::string, GLuint> mPrograms;
   FrameLayout mLayout;
