@@ -118,11 +118,9 @@ void installCallbacks(GLFWwindow* window) {
       s.orbit.pitch = std::clamp(s.orbit.pitch + 0.3 * dy, -89.0, 89.0);
       s.dirty = true;
     } else if (s.panning) {
-      const render::Camera c = s.orbit.camera();
-      const Vec3d forward = glm::normalize(c.target - c.eye);
-      const Vec3d right = glm::normalize(glm::cross(forward, c.up)), up = glm::cross(right, forward);
+      const render::Camera::Basis b = s.orbit.camera().basis();
       const double scale = 0.002 * s.orbit.distance;
-      s.orbit.target += scale * (-dx * right + dy * up);
+      s.orbit.target += scale * (-dx * b.right + dy * b.up);
       s.dirty = true;
     }
   });

@@ -20,11 +20,12 @@ namespace cellrelief::metrics {
 struct Distribution {
   double median = 0;
   double p95 = 0;
+  double p99 = 0;
   double max = 0;
   double mean = 0;
 };
 
-/// Median, 95th percentile (nearest rank), maximum and mean; zeros for an empty sample.
+/// Median, 95th and 99th percentiles (nearest rank), maximum and mean; zeros for an empty sample.
 inline Distribution distributionOf(std::vector<double> values) {
   Distribution d;
   if (values.empty()) return d;
@@ -35,6 +36,7 @@ inline Distribution distributionOf(std::vector<double> values) {
   };
   d.median = rank(0.5);
   d.p95 = rank(0.95);
+  d.p99 = rank(0.99);
   d.max = values.back();
   for (double v : values) d.mean += v;
   d.mean /= double(values.size());

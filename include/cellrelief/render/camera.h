@@ -24,20 +24,29 @@ struct Camera {
     return {centre + distance * dir, centre, Vec3d(0, 1, 0), fovDegrees};
   }
 
-  /// The ray through the centre of pixel (x, y) of a width x height image (y down).
-  Rayd primaryRay(int x, int y, int width, int height) const {
+  /// The orthonormal view frame and the half-height of the image plane at distance 1: what
+  /// primaryRay builds its rays from, and what a GPU backend uploads once per frame.
+  struct Basis {
+    Vec3d forward, right, up;
+    double tanHalf = 0;
+  };
+  Basis basis() const {
     const Vec3d forward = glm::normalize(target - eye);
     // Looking along `up` leaves the roll undefined: take another axis rather than NaN rays.
     Vec3d side = glm::cross(forward, up);
     if (glm::length(side) < 1e-9 * glm::length(up)) side = glm::cross(forward, Vec3d(0, 0, 1));
     if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
     const Vec3d right = glm::normalize(side);
-    const Vec3d trueUp = glm::cross(right, forward);
-    const double tanHalf = std::tan(0.5 * verticalFovDegrees * M_PI / 180);
+    return {forward, right, glm::cross(right, forward), std::tan(0.5 * verticalFovDegrees * M_PI / 180)};
+  }
+
+  /// The ray through the centre of pixel (x, y) of a width x height image (y down).
+  Rayd primaryRay(int x, int y, int width, int height) const {
+    const Basis b = basis();
     const double aspect = double(width) / double(height);
-    const double sx = (2.0 * (x + 0.5) / width - 1.0) * tanHalf * aspect;
-    const double sy = (1.0 - 2.0 * (y + 0.5) / height) * tanHalf;
-    return Rayd(eye, glm::normalize(forward + sx * right + sy * trueUp));
+    const double sx = (2.0 * (x + 0.5) / width - 1.0) * b.tanHalf * aspect;
+    const double sy = (1.0 - 2.0 * (y + 0.5) / height) * b.tanHalf;
+    return Rayd(eye, glm::normalize(b.forward + sx * b.right + sy * b.up));
   }
 };
 

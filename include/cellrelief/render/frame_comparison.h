@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cellrelief/core/image.h"
+#include "cellrelief/metrics/ray_comparison.h"
 #include "cellrelief/render/frame.h"
 
 namespace cellrelief::render {
@@ -27,15 +28,6 @@ struct FrameAgreement {
   double cellFraction = 0;  ///< of the pixels both hit, those whose hit cell differs
   double meanSteps = 0;     ///< mean |steps a - steps b| per pixel
 };
-
-namespace detail {
-inline double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return v[k];
-}
-}  // namespace detail
 
 /// Compares the channels both frames hold (the mask is required). `sampleSpacing`: world units
 /// per sample of the model, to express depth errors in texels.
@@ -75,15 +67,16 @@ inline FrameAgreement compareFrames(const Frame& a, const Frame& b, double sampl
       if (cell) cellsDiffer += a.cell.at(x, y, 0) != b.cell.at(x, y, 0);
     }
   r.maskFraction = double(r.maskDiffers) / double(std::max<std::size_t>(1, r.pixels));
-  r.medianTexels = detail::quantile(depthErrors, 0.5);
-  r.p95Texels = detail::quantile(depthErrors, 0.95);
-  r.maxTexels = depthErrors.empty() ? 0 : *std::max_element(depthErrors.begin(), depthErrors.end());
-  r.medianDegrees = detail::quantile(angles, 0.5);
-  r.p95Degrees = detail::quantile(angles, 0.95);
-  double sum = 0;
-  for (double c : colors) sum += c;
-  r.meanColor = colors.empty() ? 0 : sum / double(colors.size());
-  r.p99Color = detail::quantile(colors, 0.99);
+  const metrics::Distribution depthDistribution = metrics::distributionOf(std::move(depthErrors));
+  const metrics::Distribution angleDistribution = metrics::distributionOf(std::move(angles));
+  const metrics::Distribution colorDistribution = metrics::distributionOf(std::move(colors));
+  r.medianTexels = depthDistribution.median;
+  r.p95Texels = depthDistribution.p95;
+  r.maxTexels = depthDistribution.max;
+  r.medianDegrees = angleDistribution.median;
+  r.p95Degrees = angleDistribution.p95;
+  r.meanColor = colorDistribution.mean;
+  r.p99Color = colorDistribution.p99;
   r.cellFraction = double(cellsDiffer) / double(std::max<std::size_t>(1, r.bothHit));
   r.meanSteps = stepSum / double(std::max<std::size_t>(1, r.pixels));
   return r;

@@ -307,13 +307,9 @@ class GlBackend final : public render::Backend {
                           const FrameLayout& layout) const {
     FrameParams p{};
     // Camera::primaryRay's basis, computed once per frame.
-    const Vec3d forward = glm::normalize(camera.target - camera.eye);
-    Vec3d side = glm::cross(forward, camera.up);
-    if (glm::length(side) < 1e-9 * glm::length(camera.up)) side = glm::cross(forward, Vec3d(0, 0, 1));
-    if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
-    const Vec3d right = glm::normalize(side);
-    const Vec3d trueUp = glm::cross(right, forward);
-    const double tanHalf = std::tan(0.5 * camera.verticalFovDegrees * M_PI / 180);
+    const render::Camera::Basis basis = camera.basis();
+    const Vec3d &forward = basis.forward, &right = basis.right, &trueUp = basis.up;
+    const double tanHalf = basis.tanHalf;
     const double aspect = double(o.width) / double(o.height);
     auto put = [](float* dst, const Vec3d& v, float w = 0) {
       dst[0] = float(v.x), dst[1] = float(v.y), dst[2] = float(v.z), dst[3] = w;
@@ -553,12 +549,9 @@ class GlBackend final : public render::Backend {
   /// enlarged by two pixels at the farthest point of the scene (so no ray that grazes a grey cell
   /// is lost to the rasterizer's rounding).
   CoverParams coverParams(const render::Camera& camera, const render::RenderOptions& o, std::size_t model) const {
-    const Vec3d forward = glm::normalize(camera.target - camera.eye);
-    Vec3d side = glm::cross(forward, camera.up);
-    if (glm::length(side) < 1e-9 * glm::length(camera.up)) side = glm::cross(forward, Vec3d(0, 0, 1));
-    if (glm::length(side) < 1e-9) side = glm::cross(forward, Vec3d(1, 0, 0));
-    const Vec3d right = glm::normalize(side), up = glm::cross(right, forward);
-    const double tanHalf = std::tan(0.5 * camera.verticalFovDegrees * M_PI / 180);
+    const render::Camera::Basis basis = camera.basis();
+    const Vec3d &forward = basis.forward, &right = basis.right, &up = basis.up;
+    const double tanHalf = basis.tanHalf;
     const double aspect = double(o.width) / double(o.height);
     const Aabbd bounds = mScene.boundsWS();
     double farthest = 0;
