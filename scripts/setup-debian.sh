@@ -13,7 +13,7 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev
   libceres-dev libcgal-dev libembree-dev
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libglfw3-dev
-  libvulkan-dev mesa-vulkan-drivers glslc
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
   xvfb xauth
 )
 

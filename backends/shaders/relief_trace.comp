@@ -4,10 +4,12 @@
 // and Vulkan backends; the backend prepends a preamble (backends/gpu/shader_preamble.h) with
 //  - CR_VULKAN or not (binding syntax),
 //  - the traversal constants, written from trace/trace_options.h (never typed here),
-//  - the variant: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection types present),
-//    CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SHADOWS,
-//    CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
-//    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels),
+//  - the variant, as constant bools: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection
+//    types present), CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP,
+//    CR_SHADOWS, CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
+//    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels).
+//    OpenGL compiles them as plain constants, Vulkan as specialization constants of one SPIR-V
+//    module; either way the compiler removes the branches a variant switches off;
 //  - the workgroup size and the number of lights.
 // Comments name the C++ function each part follows; the reasons are written there. The structure
 // differs from the C++ where SIMD lanes need it: a GPU (and llvmpipe, 8 pixels a vector) runs
@@ -92,16 +94,12 @@ layout(std430, CR_BIND(3)) readonly buffer Hash { uvec2 slots[]; };
 layout(std430, CR_BIND(4)) readonly buffer Pyramid { uint pyramidWords[]; };
 layout(std430, CR_BIND(5)) writeonly buffer FrameOut { uint frameWords[]; };
 
+// Every map is bound (a 1 x 1 placeholder when the scene lacks it): a variant switch that is
+// off removes the reads, not the declaration, so one SPIR-V module serves every variant.
 layout(CR_BIND(6)) uniform usampler2DArray distanceAtlas;
-#ifdef CR_OCT_NORMALS
 layout(CR_BIND(7)) uniform usampler2DArray octNormalAtlas;
-#endif
-#ifdef CR_RGBA_NORMALS
 layout(CR_BIND(8)) uniform usampler2DArray rgbaNormalAtlas;
-#endif
-#ifdef CR_COLORS
 layout(CR_BIND(9)) uniform usampler2DArray colorAtlas;
-#endif
 
 // ---- the current model and cell (GLSL has no references: the search reads these) -------------
 
@@ -261,27 +259,15 @@ vec3 axialFoot(vec3 p) {
 // (parallel, planar) share one path of selects and the two central ones (perspective, axial)
 // share one exitPoint; a variant compiles only the paths its scene has.
 FacePoint projectSingleDirection(vec3 p) {
-#if defined(CR_PARALLEL) && defined(CR_PLANAR)
-  const int face = gProjection == CR_PROJ_PARALLEL ? gFaceOrAxis
-                                                   : makeFace(gFaceOrAxis, axisOf(p, gFaceOrAxis) >= 0.5);
-#elif defined(CR_PARALLEL)
-  const int face = gFaceOrAxis;
-#else
-  const int face = makeFace(gFaceOrAxis, axisOf(p, gFaceOrAxis) >= 0.5);
-#endif
+  const bool parallel = CR_PARALLEL && (!CR_PLANAR || gProjection == CR_PROJ_PARALLEL);
+  const int face = parallel ? gFaceOrAxis : makeFace(gFaceOrAxis, axisOf(p, gFaceOrAxis) >= 0.5);
   // p lies in the unit cell: the distance to the face is 1 - x or x (parallel: |target - x|).
   const float x = axisOf(p, faceAxis(face));
   return FacePoint(face, faceUV(face, p), facePositive(face) ? 1.0 - x : x);
 }
 
 FacePoint projectCentral(vec3 p) {
-#if defined(CR_PERSPECTIVE) && defined(CR_AXIAL)
-  const bool perspective = gProjection == CR_PROJ_PERSPECTIVE;
-#elif defined(CR_PERSPECTIVE)
-  const bool perspective = true;
-#else
-  const bool perspective = false;
-#endif
+  const bool perspective = CR_PERSPECTIVE && (!CR_AXIAL || gProjection == CR_PROJ_PERSPECTIVE);
   const vec3 origin = perspective ? gPoint : axialFoot(p);
   const vec3 w = p - origin;
   if (w == vec3(0.0)) {  // the centre itself, or a point on the axis
@@ -293,17 +279,15 @@ FacePoint projectCentral(vec3 p) {
 }
 
 FacePoint project(vec3 p) {
-#if (defined(CR_PARALLEL) || defined(CR_PLANAR)) && (defined(CR_PERSPECTIVE) || defined(CR_AXIAL))
-  const FacePoint single = projectSingleDirection(p);
-  const FacePoint central = projectCentral(p);
-  return gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR ? single : central;
-#elif defined(CR_PARALLEL) || defined(CR_PLANAR)
-  return projectSingleDirection(p);
-#elif defined(CR_PERSPECTIVE) || defined(CR_AXIAL)
-  return projectCentral(p);
-#else
+  const bool single = CR_PARALLEL || CR_PLANAR, central = CR_PERSPECTIVE || CR_AXIAL;
+  if (single && central) {
+    const FacePoint s = projectSingleDirection(p);
+    const FacePoint c = projectCentral(p);
+    return gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR ? s : c;
+  }
+  if (single) return projectSingleDirection(p);
+  if (central) return projectCentral(p);
   return FacePoint(-1, vec2(0.0), 0.0);
-#endif
 }
 
 vec3 unproject(int face, vec2 uv, float distance) {
@@ -339,17 +323,18 @@ bool stored(int layer, vec2 uv, out float value) {
   const int a0 = min(gTexels - 2, int(x)), b0 = min(gTexels - 2, int(y));
   const float fx = x - float(a0), fy = y - float(b0);
   const ivec3 tile = tileOrigin(layer);
-#ifdef CR_GATHER
-  // One gather of the 2 x 2 block: (x, y, z, w) = (a0, b0+1), (a0+1, b0+1), (a0+1, b0), (a0, b0).
-  const uvec4 g = textureGather(distanceAtlas, vec3((vec2(tile.xy) + vec2(a0 + 1, b0 + 1)) * gInverseAtlasSize,
-                                                  float(tile.z)), 0);
-  const uint c00 = g.w, c10 = g.z, c01 = g.x, c11 = g.y;
-#else
-  const uint c00 = sampleCode(tile, a0, b0);
-  const uint c10 = sampleCode(tile, a0 + 1, b0);
-  const uint c01 = sampleCode(tile, a0, b0 + 1);
-  const uint c11 = sampleCode(tile, a0 + 1, b0 + 1);
-#endif
+  uint c00, c10, c01, c11;
+  if (CR_GATHER) {
+    // One gather of the 2 x 2 block: (x, y, z, w) = (a0, b0+1), (a0+1, b0+1), (a0+1, b0), (a0, b0).
+    const uvec4 g = textureGather(distanceAtlas, vec3((vec2(tile.xy) + vec2(a0 + 1, b0 + 1)) * gInverseAtlasSize,
+                                                    float(tile.z)), 0);
+    c00 = g.w, c10 = g.z, c01 = g.x, c11 = g.y;
+  } else {
+    c00 = sampleCode(tile, a0, b0);
+    c10 = sampleCode(tile, a0 + 1, b0);
+    c01 = sampleCode(tile, a0, b0 + 1);
+    c11 = sampleCode(tile, a0 + 1, b0 + 1);
+  }
   if (c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode) return false;
   const float top = float(c00) + fx * (float(c10) - float(c00));
   const float bottom = float(c01) + fx * (float(c11) - float(c01));
@@ -446,7 +431,6 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
 
 // ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
 
-#ifdef CR_SKIP
 // Nodes per side at a level: level 0 has T - 1, each level above halves it rounding up
 // (EmptySpacePyramid), which is ceil((T - 1) / 2^level).
 int pyramidSize(int level) { return ((gTexels - 2) >> level) + 1; }
@@ -619,9 +603,7 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
 
 // ReliefTracer::skipSearch: a planar cell is two parallel half-cells.
 Hit skipSearch(float t0, float t1) {
-#ifdef CR_PARALLEL
-  if (gProjection == CR_PROJ_PARALLEL) return skipSearchFace(gFaceOrAxis, t0, t1, 1.0);
-#endif
+  if (CR_PARALLEL && gProjection == CR_PROJ_PARALLEL) return skipSearchFace(gFaceOrAxis, t0, t1, 1.0);
   const int axis = gFaceOrAxis;
   const float o = axisOf(gLocalOrigin, axis), d = axisOf(gLocalDirection, axis);
   const float tMid = d != 0.0 ? (0.5 - o) / d : CR_INF;
@@ -637,14 +619,11 @@ Hit skipSearch(float t0, float t1) {
   second.steps += hit.steps;
   return second;
 }
-#endif
 
 Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
-#ifdef CR_SKIP
-  if ((gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
+  if (CR_SKIP && (gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
       gPyramidOffset >= 0)
     return skipSearch(t0, t1);
-#endif
   return linearBinarySearch(t0, t1, fStart, fpStart, fEnd);
 }
 
@@ -878,8 +857,7 @@ void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
       if (gInterior && !gCentreInside) n = -n;
       normal = length(n) > 0.0 ? normalize(n) : vec3(0.0);
     }
-#ifdef CR_OCT_NORMALS
-    if (normalFormat == CR_NORMALS_OCT) {
+    if (CR_OCT_NORMALS && normalFormat == CR_NORMALS_OCT) {
       // octahedralDecode of relief_model.h
       vec2 e = vec2(texelFetch(octNormalAtlas, at, 0).rg) / 65535.0;
       e = e * 2.0 - 1.0;
@@ -889,14 +867,9 @@ void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
       n.y += n.y >= 0.0 ? -t : t;
       normal = normalize(n);
     }
-#endif
-#ifdef CR_RGBA_NORMALS
-    if (normalFormat == CR_NORMALS_RGBA)
+    if (CR_RGBA_NORMALS && normalFormat == CR_NORMALS_RGBA)
       normal = normalize(vec3(texelFetch(rgbaNormalAtlas, at, 0).rgb) / 255.0 * 2.0 - 1.0);
-#endif
-#ifdef CR_COLORS
-    if (gColorFormat == CR_COLORS_RGBA) color = vec3(texelFetch(colorAtlas, at, 0).rgb) / 255.0;
-#endif
+    if (CR_COLORS && gColorFormat == CR_COLORS_RGBA) color = vec3(texelFetch(colorAtlas, at, 0).rgb) / 255.0;
   }
   if (normal == vec3(0.0)) normal = -normalize(direction);
 }
@@ -913,14 +886,12 @@ vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
     const vec3 towards = P.lights[i].direction.xyz;
     const float lambert = dot(normal, towards);
     if (lambert <= 0.0) continue;
-#ifdef CR_SHADOWS
-    if (P.flags.x != 0) {
+    if (CR_SHADOWS && P.flags.x != 0) {
       const int keep = gModel;
       const bool blocked = occludedScene(position + offset * normal, towards);
       selectModel(keep);
       if (blocked) continue;
     }
-#endif
     light += P.lights[i].color.rgb * lambert;
   }
   return base * light;
@@ -931,7 +902,11 @@ vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
 // One pixel per invocation of the compute pass, or (CR_FRAGMENT, the paper's way) per fragment
 // of a full-screen pass that the stencil of the rasterized grey cells limits to covered pixels.
 void main() {
-#ifdef CR_FRAGMENT
+#if defined(CR_FRAGMENT) && defined(CR_VULKAN)
+  // The viewport is flipped (negative height), so the cover draws as in OpenGL; framebuffer rows
+  // still count from the top.
+  const ivec2 pixel = ivec2(gl_FragCoord.xy);
+#elif defined(CR_FRAGMENT)
   const ivec2 pixel = ivec2(int(gl_FragCoord.x), P.size.y - 1 - int(gl_FragCoord.y));
 #else
   const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -947,45 +922,29 @@ void main() {
   const vec3 direction = normalize(P.forward.xyz + sx * P.right.xyz + sy * P.up.xyz);
   int model;
   const Hit hit = traceScene(eye, direction, model);
-#ifdef CR_OUT_STEPS
-  frameWords[P.offsets.w + index] = floatBitsToUint(float(hit.steps));
-#endif
+  if (CR_OUT_STEPS) frameWords[P.offsets.w + index] = floatBitsToUint(float(hit.steps));
   if (hit.cell < 0) {
-#ifdef CR_OUT_COLOR
-    const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
-    frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
-#endif
-#ifdef CR_OUT_DEPTH
-    frameWords[P.flags.w + index] = floatBitsToUint(CR_INF);
-#endif
-#ifdef CR_OUT_NORMAL
-    for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = 0u;
-#endif
-#ifdef CR_OUT_MASK
-    frameWords[P.offsets.y + index] = 0u;
-#endif
-#ifdef CR_OUT_CELL
-    frameWords[P.offsets.z + index] = floatBitsToUint(-1.0);
-#endif
+    if (CR_OUT_COLOR) {
+      const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
+      frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
+    }
+    if (CR_OUT_DEPTH) frameWords[P.flags.w + index] = floatBitsToUint(CR_INF);
+    if (CR_OUT_NORMAL)
+      for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = 0u;
+    if (CR_OUT_MASK) frameWords[P.offsets.y + index] = 0u;
+    if (CR_OUT_CELL) frameWords[P.offsets.z + index] = floatBitsToUint(-1.0);
     return;
   }
   selectCell(hit.cell);
   vec3 shadingNormal, base;
   shadeHit(hit, direction, shadingNormal, base);
   const vec3 n = facing(shadingNormal, direction);
-#ifdef CR_OUT_DEPTH
-  frameWords[P.flags.w + index] = floatBitsToUint(hit.t);
-#endif
-#ifdef CR_OUT_NORMAL
-  for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = floatBitsToUint(n[c]);
-#endif
-#ifdef CR_OUT_MASK
-  frameWords[P.offsets.y + index] = 1u;
-#endif
-#ifdef CR_OUT_CELL
-  frameWords[P.offsets.z + index] = floatBitsToUint(float(hit.cell - models[model].cellOffset));
-#endif
-#ifdef CR_OUT_COLOR
+  if (CR_OUT_DEPTH) frameWords[P.flags.w + index] = floatBitsToUint(hit.t);
+  if (CR_OUT_NORMAL)
+    for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = floatBitsToUint(n[c]);
+  if (CR_OUT_MASK) frameWords[P.offsets.y + index] = 1u;
+  if (CR_OUT_CELL) frameWords[P.offsets.z + index] = floatBitsToUint(float(hit.cell - models[model].cellOffset));
+  if (!CR_OUT_COLOR) return;
   // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.
   vec3 position = eye + hit.t * direction;
   vec3 normalK = n;
@@ -995,8 +954,7 @@ void main() {
   float weight = 1.0;
   for (int bounce = 0;; ++bounce) {
     const vec3 local = shadeLocal(position, normalK, baseK);
-#ifdef CR_REFLECTIONS
-    if (bounce < P.steps.w) {
+    if (CR_REFLECTIONS && bounce < P.steps.w) {
       const float r = P.tuning.y;
       result += weight * (1.0 - r) * local;
       weight *= r;
@@ -1016,12 +974,10 @@ void main() {
       rayDirection = mirrorDirection;
       continue;
     }
-#endif
     result += weight * local;
     break;
   }
   const vec3 c = clamp(result, vec3(0.0), vec3(1.0));
   const uvec3 display = uvec3(floor(255.0 * pow(c, vec3(1.0 / 2.2)) + 0.5));
   frameWords[P.flags.z + index] = display.r | (display.g << 8) | (display.b << 16) | (255u << 24);
-#endif
 }

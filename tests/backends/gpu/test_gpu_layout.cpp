@@ -3,6 +3,7 @@
 // nothing else, the atlas holds every sample of every layer where the shader reads it, a model
 // with more face layers than a device has array layers still fits, and a scene beyond the
 // limits is refused with an error that names the model and the limit.
+#include <cctype>
 #include <gtest/gtest.h>
 
 #include <set>
@@ -116,12 +117,31 @@ TEST(ShaderPreamble, AVariantHoldsOnlyWhatTheSceneUses) {
   SceneFeatures perspectiveOnly;
   perspectiveOnly.perspective = true;
   const ShaderVariant v = ShaderVariant::specialized(perspectiveOnly, true, true, false, render::kColor);
-  const std::string defines = variantDefines(v);
-  EXPECT_NE(defines.find("CR_PERSPECTIVE"), std::string::npos);
+  const std::string constants = variantConstants(v);
+  EXPECT_NE(constants.find("const bool CR_PERSPECTIVE = true;"), std::string::npos) << constants;
+  EXPECT_NE(constants.find("const bool CR_SHADOWS = true;"), std::string::npos);
   for (const char* absent : {"CR_PARALLEL", "CR_PLANAR", "CR_AXIAL", "CR_SKIP", "CR_OCT_NORMALS", "CR_COLORS",
                              "CR_REFLECTIONS", "CR_OUT_DEPTH"})
-    EXPECT_EQ(defines.find(absent), std::string::npos) << absent;
-  EXPECT_NE(defines.find("CR_SHADOWS"), std::string::npos);
+    EXPECT_NE(constants.find(std::string("const bool ") + absent + " = false;"), std::string::npos) << absent;
+}
+
+TEST(ShaderPreamble, VulkanSpecializationIdsFollowTheSwitchTable) {
+  const std::string spec = variantSpecializationConstants();
+  for (int i = 0; i < kVariantSwitchCount; ++i)
+    EXPECT_NE(spec.find("layout(constant_id = " + std::to_string(i) + ") const bool " + kVariantSwitchNames[i] + " ="),
+              std::string::npos)
+        << kVariantSwitchNames[i];
+  // Every switch is used by the body: one that is not would be a variant that changes nothing.
+  const std::string body(kReliefTraceComp);
+  auto usesToken = [&](const std::string& name) {
+    for (std::size_t at = body.find(name); at != std::string::npos; at = body.find(name, at + 1)) {
+      const char next = at + name.size() < body.size() ? body[at + name.size()] : ' ';
+      if (!std::isalnum(static_cast<unsigned char>(next)) && next != '_') return true;
+    }
+    return false;
+  };
+  for (const char* name : kVariantSwitchNames) EXPECT_TRUE(usesToken(name)) << name;
+  EXPECT_EQ(body.find("#ifdef CR_OUT"), std::string::npos) << "variant switches are constants, not macros";
 }
 
 }  // namespace

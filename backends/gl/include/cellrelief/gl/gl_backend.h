@@ -397,9 +397,9 @@ class GlBackend final : public render::Backend {
     const auto t0 = std::chrono::steady_clock::now();
     const std::string what = "the traversal shader (variant " + variant.name() + (fragment ? ", fragment" : "") + ")";
     const GLuint program = fragment ? linkProgram({{GL_VERTEX_SHADER, kFullScreenVert},
-                                                   {GL_FRAGMENT_SHADER, gpu::reliefTraceShader(variant, false, true)}},
+                                                   {GL_FRAGMENT_SHADER, gpu::reliefTraceShader(variant, true)}},
                                                   what)
-                                    : linkProgram({{GL_COMPUTE_SHADER, gpu::reliefTraceShader(variant, false)}}, what);
+                                    : linkProgram({{GL_COMPUTE_SHADER, gpu::reliefTraceShader(variant)}}, what);
     mCompileSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     mPrograms[key] = program;
     return program;

@@ -7,6 +7,7 @@
 /// for what it has (a shader without the branches, loops and bindings it would never take).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -124,29 +125,51 @@ inline std::string traversalConstants() {
   return s;
 }
 
-/// The variant's switches as GLSL #defines.
-inline std::string variantDefines(const ShaderVariant& v) {
+/// The variant's switches, in the order of their Vulkan specialization constant ids (the SPIR-V
+/// modules are built with this table, so an id means the same switch on both sides).
+inline constexpr const char* kVariantSwitchNames[] = {
+    "CR_PARALLEL",    "CR_PLANAR",       "CR_PERSPECTIVE", "CR_AXIAL",    "CR_OCT_NORMALS",
+    "CR_RGBA_NORMALS", "CR_COLORS",      "CR_SKIP",        "CR_SHADOWS",  "CR_REFLECTIONS",
+    "CR_GATHER",      "CR_OUT_COLOR",    "CR_OUT_DEPTH",   "CR_OUT_NORMAL", "CR_OUT_MASK",
+    "CR_OUT_CELL",    "CR_OUT_STEPS"};
+inline constexpr int kVariantSwitchCount = int(std::size(kVariantSwitchNames));
+
+/// The value of each switch of kVariantSwitchNames for a variant.
+inline std::array<bool, kVariantSwitchCount> variantSwitches(const ShaderVariant& v) {
+  return {v.parallel,
+          v.planar,
+          v.perspective,
+          v.axial,
+          v.octahedralNormals,
+          v.rgbaNormals,
+          v.colors,
+          v.skip && (v.parallel || v.planar),
+          v.shadows,
+          v.reflections,
+          v.gather,
+          (v.channels & render::kColor) != 0,
+          (v.channels & render::kDepth) != 0,
+          (v.channels & render::kNormal) != 0,
+          (v.channels & render::kMask) != 0,
+          (v.channels & render::kCell) != 0,
+          (v.channels & render::kSteps) != 0};
+}
+
+/// The variant's switches as GLSL constants (OpenGL): `const bool CR_SKIP = false;`.
+inline std::string variantConstants(const ShaderVariant& v) {
+  const auto on = variantSwitches(v);
   std::string s;
-  auto flag = [&](bool on, const char* name) {
-    if (on) s += std::string("#define ") + name + "\n";
-  };
-  flag(v.parallel, "CR_PARALLEL");
-  flag(v.planar, "CR_PLANAR");
-  flag(v.perspective, "CR_PERSPECTIVE");
-  flag(v.axial, "CR_AXIAL");
-  flag(v.octahedralNormals, "CR_OCT_NORMALS");
-  flag(v.rgbaNormals, "CR_RGBA_NORMALS");
-  flag(v.colors, "CR_COLORS");
-  flag(v.skip && (v.parallel || v.planar), "CR_SKIP");
-  flag(v.shadows, "CR_SHADOWS");
-  flag(v.reflections, "CR_REFLECTIONS");
-  flag(v.gather, "CR_GATHER");
-  flag(v.channels & render::kColor, "CR_OUT_COLOR");
-  flag(v.channels & render::kDepth, "CR_OUT_DEPTH");
-  flag(v.channels & render::kNormal, "CR_OUT_NORMAL");
-  flag(v.channels & render::kMask, "CR_OUT_MASK");
-  flag(v.channels & render::kCell, "CR_OUT_CELL");
-  flag(v.channels & render::kSteps, "CR_OUT_STEPS");
+  for (int i = 0; i < kVariantSwitchCount; ++i)
+    s += std::string("const bool ") + kVariantSwitchNames[i] + (on[std::size_t(i)] ? " = true;\n" : " = false;\n");
+  return s;
+}
+
+/// The switches as specialization constants (Vulkan), every one true by default (the general
+/// shader); a pipeline sets them per variant.
+inline std::string variantSpecializationConstants() {
+  std::string s;
+  for (int i = 0; i < kVariantSwitchCount; ++i)
+    s += "layout(constant_id = " + std::to_string(i) + ") const bool " + kVariantSwitchNames[i] + " = true;\n";
   return s;
 }
 
@@ -160,16 +183,28 @@ inline std::string reliefTraceBody() {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// The whole traversal shader for a variant: version, API switch, constants, variant, body. A
+/// The whole traversal shader for OpenGL: version, constants, the variant's switches, body. A
 /// compute shader, or with `fragment` the fragment shader of the rasterized entry.
-inline std::string reliefTraceShader(const ShaderVariant& v, bool vulkan, bool fragment = false) {
+inline std::string reliefTraceShader(const ShaderVariant& v, bool fragment = false) {
   std::string s = "#version 450\n";
-  if (vulkan) s += "#define CR_VULKAN\n";
   if (fragment) s += "#define CR_FRAGMENT\n";
   s += traversalConstants();
-  s += variantDefines(v);
+  s += variantConstants(v);
   s += "#line 1\n";
   s += reliefTraceBody();
+  return s;
+}
+
+/// The traversal shader the Vulkan backend's SPIR-V is compiled from at build time (by glslc,
+/// through backends/vulkan/tools/write_vulkan_shaders.cpp): the embedded body, the variant as
+/// specialization constants.
+inline std::string reliefTraceShaderForVulkan(bool fragment) {
+  std::string s = "#version 450\n#define CR_VULKAN\n";
+  if (fragment) s += "#define CR_FRAGMENT\n";
+  s += traversalConstants();
+  s += variantSpecializationConstants();
+  s += "#line 1\n";
+  s += std::string(kReliefTraceComp);
   return s;
 }
 
