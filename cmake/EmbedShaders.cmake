@@ -2,7 +2,7 @@
 # Writes the GLSL sources of SHADER_DIR into OUTPUT as C++ string constants (cmake -P script), so
 # the header-only GPU backends carry their shaders and need no files at run time.
 set(_body "")
-foreach(_pair "relief_trace.comp|kReliefTraceComp" "cell_cover.vert|kCellCoverVert")
+foreach(_pair "relief_trace.comp|kReliefTraceComp" "cell_cover.vert|kCellCoverVert" "full_screen.vert|kFullScreenVert")
   string(REPLACE "|" ";" _pair "${_pair}")
   list(GET _pair 0 _file)
   list(GET _pair 1 _name)

@@ -28,6 +28,7 @@
 #include <unistd.h>
 
 #include "cellrelief/gl/egl_context.h"
+#include "cellrelief/gpu/gpu_frame.h"
 #include "cellrelief/gpu/gpu_layout.h"
 #include "cellrelief/gpu/shader_preamble.h"
 #include "cellrelief/render/backend.h"
@@ -36,32 +37,10 @@ namespace cellrelief::gl {
 
 using gpu::kMaxLights;
 
-/// The std140 uniform block `Params` of the shader.
-struct FrameParams {
-  float eye[4], forward[4], right[4], up[4], ambient[4], background[4];
-  struct Light {
-    float direction[4];
-    float color[4];
-  } lights[kMaxLights];
-  std::int32_t size[4];    ///< width, height, models, lights
-  std::int32_t steps[4];   ///< minLinear, maxLinear, binary, reflection bounces
-  float tuning[4];         ///< stepsPerTexel, reflectivity
-  std::int32_t flags[4];   ///< shadows, skip, color offset, depth offset
-  std::int32_t offsets[4]; ///< normal, mask, cell and steps offsets
-};
-
-/// How the traversal reaches the pixels: the paper's way (the default), the grey cells rasterized
-/// into the stencil and the traversal run in a fragment pass on the covered pixels only, or a
-/// compute pass over all of them (docs/backends.md compares them). Both give the same frame.
-enum class RayEntry { Compute, Rasterized };
-
-/// The std140 uniform block `Cover` of cell_cover.vert.
-struct CoverParams {
-  float viewProjection[16];  ///< column-major
-  float originAndCellSize[4];
-  float dilation[4];
-  std::int32_t cellOffset[4];
-};
+using gpu::CoverParams;
+using gpu::FrameLayout;
+using gpu::FrameParams;
+using gpu::RayEntry;
 
 class GlBackend final : public render::Backend {
  public:
@@ -92,10 +71,7 @@ class GlBackend final : public render::Backend {
   void upload(const render::Scene& scene) override {
     mContext->makeCurrent();
     releaseScene();
-    if (scene.lights.size() > std::size_t(kMaxLights))
-      throw Error(ErrorKind::InvalidArgument, "the OpenGL backend shades at most " +
-                                                  std::to_string(kMaxLights) + " lights; the scene has " +
-                                                  std::to_string(scene.lights.size()));
+    gpu::checkLights(scene, "the OpenGL backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
@@ -132,14 +108,14 @@ class GlBackend final : public render::Backend {
     mRendered = false;  // a render that fails leaves nothing to read back
     checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
-    const bool rasterized = mEntry == RayEntry::Rasterized && eyeOutsideScene(camera);
+    const bool rasterized = mEntry == RayEntry::Rasterized && gpu::eyeOutsideScene(mScene, camera);
     const GLuint program = programFor(variant, rasterized);
     if (rasterized) prepareRasterized(options);  // before the timer query: these may throw
     // The layout holds every channel the shader writes (the general one writes all of them);
     // readBack() copies those the caller asked for.
-    const FrameLayout layout = frameLayout(options, variant.channels);
+    const FrameLayout layout = gpu::frameLayout(options, variant.channels, mLimits.maxStorageBytes);
     ensureFrameBuffer(layout.words);
-    FrameParams params = frameParams(camera, options, layout);
+    const FrameParams params = gpu::frameParams(mScene, camera, options, layout);
     if (!mParamsBuffer) glCreateBuffers(1, &mParamsBuffer), glNamedBufferStorage(mParamsBuffer, sizeof(FrameParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(mParamsBuffer, 0, sizeof(FrameParams), &params);
     glUseProgram(program);
@@ -179,23 +155,7 @@ class GlBackend final : public render::Backend {
     }
     // llvmpipe's timer queries do not see compute dispatches (they read about 0): no device clock.
     mGpuSeconds = mContext->isSoftware() ? 0.0 : double(nanoseconds) * 1e-9;
-    const int w = mLayout.width, h = mLayout.height;
-    frame.resize(w, h, mLayout.channels);
-    const std::size_t pixels = std::size_t(w) * std::size_t(h);
-    if (frame.has(render::kColor)) {
-      auto out = frame.color.levelData();
-      for (std::size_t i = 0; i < pixels; ++i)
-        for (int c = 0; c < 4; ++c) out[4 * i + std::size_t(c)] = std::uint8_t(words[mLayout.color + i] >> (8 * c));
-    }
-    if (frame.has(render::kDepth)) std::memcpy(frame.depth.levelData().data(), &words[mLayout.depth], pixels * 4);
-    if (frame.has(render::kNormal))
-      std::memcpy(frame.normal.levelData().data(), &words[mLayout.normal], 3 * pixels * 4);
-    if (frame.has(render::kMask)) {
-      auto out = frame.mask.levelData();
-      for (std::size_t i = 0; i < pixels; ++i) out[i] = std::uint8_t(words[mLayout.mask + i]);
-    }
-    if (frame.has(render::kCell)) std::memcpy(frame.cell.levelData().data(), &words[mLayout.cell], pixels * 4);
-    if (frame.has(render::kSteps)) std::memcpy(frame.steps.levelData().data(), &words[mLayout.steps], pixels * 4);
+    gpu::unpackFrame(words.data(), mLayout, frame);
   }
 
   std::size_t sceneBytes() const override { return mUploaded ? mGpuBytes : 0; }
@@ -229,13 +189,6 @@ class GlBackend final : public render::Backend {
   double compileSeconds() const { return mCompileSeconds; }
 
  private:
-  struct FrameLayout {
-    int width = 0, height = 0;
-    unsigned channels = 0;
-    unsigned written = 0;  ///< the channels the shader writes
-    std::size_t color = 0, depth = 0, normal = 0, mask = 0, cell = 0, steps = 0, words = 0;
-  };
-
   void queryLimits() {
     GLint size = 0, layers = 0, block = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &size);
@@ -275,75 +228,6 @@ class GlBackend final : public render::Backend {
       if (pages > 0 && page > 0) return std::size_t(pages) * std::size_t(page) / 2;
     }
     return 0;
-  }
-
-  FrameLayout frameLayout(const render::RenderOptions& o, unsigned written) const {
-    FrameLayout l;
-    l.width = o.width;
-    l.height = o.height;
-    l.channels = o.channels;
-    l.written = written;
-    const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
-    std::size_t at = 0;
-    auto take = [&](unsigned channel, std::size_t perPixel, std::size_t& offset) {
-      if (written & channel) offset = at, at += perPixel * pixels;
-    };
-    take(render::kColor, 1, l.color);
-    take(render::kDepth, 1, l.depth);
-    take(render::kNormal, 3, l.normal);
-    take(render::kMask, 1, l.mask);
-    take(render::kCell, 1, l.cell);
-    take(render::kSteps, 1, l.steps);
-    l.words = std::max<std::size_t>(at, 4);
-    if (l.words * 4 > mLimits.maxStorageBytes)
-      throw Error(ErrorKind::ResourceLimit,
-                  "a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " frame needs " +
-                      gpu::detail::mib(l.words * 4) + " of output, beyond the device's storage buffer limit of " +
-                      gpu::detail::mib(mLimits.maxStorageBytes));
-    return l;
-  }
-
-  FrameParams frameParams(const render::Camera& camera, const render::RenderOptions& o,
-                          const FrameLayout& layout) const {
-    FrameParams p{};
-    // Camera::primaryRay's basis, computed once per frame.
-    const render::Camera::Basis basis = camera.basis();
-    const Vec3d &forward = basis.forward, &right = basis.right, &trueUp = basis.up;
-    const double tanHalf = basis.tanHalf;
-    const double aspect = double(o.width) / double(o.height);
-    auto put = [](float* dst, const Vec3d& v, float w = 0) {
-      dst[0] = float(v.x), dst[1] = float(v.y), dst[2] = float(v.z), dst[3] = w;
-    };
-    put(p.eye, camera.eye);
-    put(p.forward, forward);
-    put(p.right, right * (tanHalf * aspect));
-    put(p.up, trueUp * tanHalf);
-    put(p.ambient, Vec3d(mScene.ambient));
-    for (int c = 0; c < 4; ++c) p.background[c] = mScene.background[c];
-    for (std::size_t i = 0; i < mScene.lights.size(); ++i) {
-      const render::DirectionalLight& l = mScene.lights[i];
-      put(p.lights[i].direction, glm::normalize(Vec3d(l.direction)));
-      put(p.lights[i].color, Vec3d(l.color * l.intensity));
-    }
-    p.size[0] = o.width;
-    p.size[1] = o.height;
-    p.size[2] = int(mGpu.models.size());
-    p.size[3] = int(mScene.lights.size());
-    p.steps[0] = o.trace.minLinearSteps;
-    p.steps[1] = o.trace.maxLinearSteps;
-    p.steps[2] = o.trace.binarySteps;
-    p.steps[3] = o.reflectionBounces;
-    p.tuning[0] = o.trace.stepsPerTexel;
-    p.tuning[1] = o.reflectivity;
-    p.flags[0] = o.shadows ? 1 : 0;
-    p.flags[1] = o.trace.skipEmptySpace ? 1 : 0;
-    p.flags[2] = int(layout.color);
-    p.flags[3] = int(layout.depth);
-    p.offsets[0] = int(layout.normal);
-    p.offsets[1] = int(layout.mask);
-    p.offsets[2] = int(layout.cell);
-    p.offsets[3] = int(layout.steps);
-    return p;
   }
 
   void ensureFrameBuffer(std::size_t words) {
@@ -396,7 +280,7 @@ class GlBackend final : public render::Backend {
     if (auto it = mPrograms.find(key); it != mPrograms.end()) return it->second;
     const auto t0 = std::chrono::steady_clock::now();
     const std::string what = "the traversal shader (variant " + variant.name() + (fragment ? ", fragment" : "") + ")";
-    const GLuint program = fragment ? linkProgram({{GL_VERTEX_SHADER, kFullScreenVert},
+    const GLuint program = fragment ? linkProgram({{GL_VERTEX_SHADER, std::string(gpu::kFullScreenVert)},
                                                    {GL_FRAGMENT_SHADER, gpu::reliefTraceShader(variant, true)}},
                                                   what)
                                     : linkProgram({{GL_COMPUTE_SHADER, gpu::reliefTraceShader(variant)}}, what);
@@ -404,12 +288,6 @@ class GlBackend final : public render::Backend {
     mPrograms[key] = program;
     return program;
   }
-
-  /// A full-screen triangle for the fragment pass of the rasterized entry.
-  static constexpr const char* kFullScreenVert =
-      "#version 450\nvoid main() {\n"
-      "  const vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
-      "  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n}\n";
 
   /// Compiles and links the stages; an Error with the driver's log when one fails.
   GLuint linkProgram(const std::vector<std::pair<GLenum, std::string>>& stages, const std::string& what) {
@@ -438,15 +316,6 @@ class GlBackend final : public render::Backend {
     if (!ok) fail("link", shaderLog(program, true));
     for (GLuint sh : shaders) glDeleteShader(sh);
     return program;
-  }
-
-  /// Whether the eye lies outside every model's grid (with a margin): then every ray enters the
-  /// grids from outside, where the rasterized cells show it.
-  bool eyeOutsideScene(const render::Camera& camera) const {
-    const Aabbd bounds = mScene.boundsWS();
-    const Vec3d margin(0.01 * bounds.diagonal());
-    return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||
-           glm::any(glm::greaterThan(camera.eye, bounds.max + margin));
   }
 
   /// The paper's way: grey cells into the stencil, then the traversal on the covered pixels.
@@ -479,7 +348,7 @@ class GlBackend final : public render::Backend {
 
   void renderRasterized(const render::Camera& camera, const render::RenderOptions& o, const FrameLayout& layout,
                         GLuint traversal) {
-    clearToMisses(layout, o);
+    clearToMisses(layout);
     glBindFramebuffer(GL_FRAMEBUFFER, mStencilFramebuffer);
     glViewport(0, 0, o.width, o.height);
     const GLint zero = 0;
@@ -495,7 +364,7 @@ class GlBackend final : public render::Backend {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, mBuffers[1]);
     glBindBufferBase(GL_UNIFORM_BUFFER, 10, mCoverBuffer);
     for (std::size_t m = 0; m < mScene.models.size(); ++m) {
-      const CoverParams cover = coverParams(camera, o, m);
+      const CoverParams cover = gpu::coverParams(mScene, mGpu, camera, o, m, mCoverDilation);
       glNamedBufferSubData(mCoverBuffer, 0, sizeof cover, &cover);
       glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(mScene.models[m]->cells.size()));
     }
@@ -508,26 +377,10 @@ class GlBackend final : public render::Backend {
   }
 
   /// The miss values of every channel: what a ray that meets no grey cell writes.
-  void clearToMisses(const FrameLayout& layout, const render::RenderOptions& o) const {
-    const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
-    auto fill = [&](unsigned channel, std::size_t offset, std::size_t words, std::uint32_t value) {
-      if (layout.written & channel)
-        glClearNamedBufferSubData(mFrameBuffer, GL_R32UI, GLintptr(offset * 4), GLsizeiptr(words * 4), GL_RED_INTEGER,
-                                  GL_UNSIGNED_INT, &value);
-    };
-    std::uint32_t background = 0;
-    for (int c = 0; c < 4; ++c)
-      background |= std::uint32_t(std::floor(255.0f * std::clamp(mScene.background[c], 0.0f, 1.0f) + 0.5f)) << (8 * c);
-    const float inf = std::numeric_limits<float>::infinity(), minusOne = -1.0f;
-    std::uint32_t infBits = 0, minusOneBits = 0;
-    std::memcpy(&infBits, &inf, 4);
-    std::memcpy(&minusOneBits, &minusOne, 4);
-    fill(render::kColor, layout.color, pixels, background);
-    fill(render::kDepth, layout.depth, pixels, infBits);
-    fill(render::kNormal, layout.normal, 3 * pixels, 0u);
-    fill(render::kMask, layout.mask, pixels, 0u);
-    fill(render::kCell, layout.cell, pixels, minusOneBits);
-    fill(render::kSteps, layout.steps, pixels, 0u);
+  void clearToMisses(const FrameLayout& layout) const {
+    for (const gpu::WordFill& f : gpu::missFills(layout, mScene))
+      glClearNamedBufferSubData(mFrameBuffer, GL_R32UI, GLintptr(f.offset * 4), GLsizeiptr(f.words * 4), GL_RED_INTEGER,
+                                GL_UNSIGNED_INT, &f.value);
   }
 
   void ensureStencil(int width, int height) {
@@ -543,43 +396,6 @@ class GlBackend final : public render::Backend {
                                               mContext->renderer());
     mStencilWidth = width;
     mStencilHeight = height;
-  }
-
-  /// The camera as a projection whose pixel centres are Camera::primaryRay's, and each cell's box
-  /// enlarged by two pixels at the farthest point of the scene (so no ray that grazes a grey cell
-  /// is lost to the rasterizer's rounding).
-  CoverParams coverParams(const render::Camera& camera, const render::RenderOptions& o, std::size_t model) const {
-    const render::Camera::Basis basis = camera.basis();
-    const Vec3d &forward = basis.forward, &right = basis.right, &up = basis.up;
-    const double tanHalf = basis.tanHalf;
-    const double aspect = double(o.width) / double(o.height);
-    const Aabbd bounds = mScene.boundsWS();
-    double farthest = 0;
-    for (int c = 0; c < 8; ++c) {
-      const Vec3d corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
-                         (c & 4) ? bounds.max.z : bounds.min.z);
-      const double d = glm::dot(corner - camera.eye, forward);
-      farthest = std::max(farthest, d);
-    }
-    const Vec3d closest = glm::clamp(camera.eye, bounds.min, bounds.max);
-    const double nearPlane = std::max(1e-9 * bounds.diagonal(), 0.5 * glm::length(closest - camera.eye));
-    const double farPlane = 2 * std::max(farthest, nearPlane) + bounds.diagonal();
-    const double a = (farPlane + nearPlane) / (farPlane - nearPlane), b = 2 * farPlane * nearPlane / (farPlane - nearPlane);
-    const Vec3d rows[4] = {right / (tanHalf * aspect), up / tanHalf, a * forward, forward};
-    const double offsets[4] = {-glm::dot(rows[0], camera.eye), -glm::dot(rows[1], camera.eye),
-                               -glm::dot(rows[2], camera.eye) - b, -glm::dot(rows[3], camera.eye)};
-    CoverParams p{};
-    for (int r = 0; r < 4; ++r) {
-      for (int c = 0; c < 3; ++c) p.viewProjection[c * 4 + r] = float(rows[r][c]);
-      p.viewProjection[12 + r] = float(offsets[r]);
-    }
-    const relief::ReliefModel& m = *mScene.models[model];
-    for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
-    p.originAndCellSize[3] = float(m.cellSizeWS);
-    const double pixelWS = 2 * tanHalf * std::max(farthest, 0.0) / double(o.height);
-    p.dilation[0] = float(mCoverDilation ? *mCoverDilation : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
-    p.cellOffset[0] = mGpu.models[model].cellOffset;
-    return p;
   }
 
   static std::string shaderLog(GLuint object, bool program) {

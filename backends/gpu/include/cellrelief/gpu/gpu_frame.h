@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: MIT
+/// @file gpu_frame.h
+/// What the GPU backends share about a frame, API-neutral: the uniform blocks the shaders read
+/// (the traversal's `Params`, the cell cover's `Cover`), the layout of the output words in the
+/// frame buffer, the miss values the rasterized entry clears it to, and the unpacking of those
+/// words into a render::Frame. OpenGL and Vulkan fill the same structs, so the two cannot differ
+/// in what a frame means.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cellrelief/gpu/gpu_layout.h"
+#include "cellrelief/gpu/shader_preamble.h"
+#include "cellrelief/render/camera.h"
+#include "cellrelief/render/frame.h"
+#include "cellrelief/render/render_options.h"
+#include "cellrelief/render/scene.h"
+
+namespace cellrelief::gpu {
+
+/// How the traversal reaches the pixels: the paper's way (the default), the grey cells rasterized
+/// into the stencil and the traversal run in a fragment pass on the covered pixels only, or a
+/// compute pass over all of them (docs/backends.md compares them). Both give the same frame.
+enum class RayEntry { Compute, Rasterized };
+
+/// The std140 uniform block `Params` of relief_trace.comp.
+struct FrameParams {
+  float eye[4], forward[4], right[4], up[4], ambient[4], background[4];
+  struct Light {
+    float direction[4];
+    float color[4];
+  } lights[kMaxLights];
+  std::int32_t size[4];    ///< width, height, models, lights
+  std::int32_t steps[4];   ///< minLinear, maxLinear, binary, reflection bounces
+  float tuning[4];         ///< stepsPerTexel, reflectivity
+  std::int32_t flags[4];   ///< shadows, skip, color offset, depth offset
+  std::int32_t offsets[4]; ///< normal, mask, cell and steps offsets
+};
+
+/// The block `Cover` of cell_cover.vert (a std140 uniform block in OpenGL, push constants in
+/// Vulkan: 112 bytes, within the 128 every Vulkan device offers).
+struct CoverParams {
+  float viewProjection[16];  ///< column-major
+  float originAndCellSize[4];
+  float dilation[4];
+  std::int32_t cellOffset[4];
+};
+static_assert(sizeof(CoverParams) <= 128);
+
+/// Where each channel's words lie in the frame buffer.
+struct FrameLayout {
+  int width = 0, height = 0;
+  unsigned channels = 0;  ///< the channels the caller asked for
+  unsigned written = 0;   ///< the channels the shader writes
+  std::size_t color = 0, depth = 0, normal = 0, mask = 0, cell = 0, steps = 0, words = 0;
+};
+
+/// The layout of a frame whose shader writes the channels `written`; refused when it is beyond
+/// one storage buffer of the device.
+inline FrameLayout frameLayout(const render::RenderOptions& o, unsigned written, std::size_t maxStorageBytes) {
+  FrameLayout l;
+  l.width = o.width;
+  l.height = o.height;
+  l.channels = o.channels;
+  l.written = written;
+  const std::size_t pixels = std::size_t(o.width) * std::size_t(o.height);
+  std::size_t at = 0;
+  auto take = [&](unsigned channel, std::size_t perPixel, std::size_t& offset) {
+    if (written & channel) offset = at, at += perPixel * pixels;
+  };
+  take(render::kColor, 1, l.color);
+  take(render::kDepth, 1, l.depth);
+  take(render::kNormal, 3, l.normal);
+  take(render::kMask, 1, l.mask);
+  take(render::kCell, 1, l.cell);
+  take(render::kSteps, 1, l.steps);
+  l.words = std::max<std::size_t>(at, 4);
+  if (l.words * 4 > maxStorageBytes)
+    throw Error(ErrorKind::ResourceLimit,
+                "a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " frame needs " +
+                    detail::mib(l.words * 4) + " of output, beyond the device's storage buffer limit of " +
+                    detail::mib(maxStorageBytes));
+  return l;
+}
+
+/// The traversal's uniforms for a frame: Camera::primaryRay's basis computed once, the lights,
+/// the trace options, the channel offsets.
+inline FrameParams frameParams(const render::Scene& scene, const render::Camera& camera,
+                               const render::RenderOptions& o, const FrameLayout& layout) {
+  FrameParams p{};
+  const render::Camera::Basis basis = camera.basis();
+  const double aspect = double(o.width) / double(o.height);
+  auto put = [](float* dst, const Vec3d& v, float w = 0) {
+    dst[0] = float(v.x), dst[1] = float(v.y), dst[2] = float(v.z), dst[3] = w;
+  };
+  put(p.eye, camera.eye);
+  put(p.forward, basis.forward);
+  put(p.right, basis.right * (basis.tanHalf * aspect));
+  put(p.up, basis.up * basis.tanHalf);
+  put(p.ambient, Vec3d(scene.ambient));
+  for (int c = 0; c < 4; ++c) p.background[c] = scene.background[c];
+  for (std::size_t i = 0; i < scene.lights.size() && i < std::size_t(kMaxLights); ++i) {
+    const render::DirectionalLight& l = scene.lights[i];
+    put(p.lights[i].direction, glm::normalize(Vec3d(l.direction)));
+    put(p.lights[i].color, Vec3d(l.color * l.intensity));
+  }
+  p.size[0] = o.width;
+  p.size[1] = o.height;
+  p.size[2] = int(scene.models.size());
+  p.size[3] = int(std::min<std::size_t>(scene.lights.size(), std::size_t(kMaxLights)));
+  p.steps[0] = o.trace.minLinearSteps;
+  p.steps[1] = o.trace.maxLinearSteps;
+  p.steps[2] = o.trace.binarySteps;
+  p.steps[3] = o.reflectionBounces;
+  p.tuning[0] = o.trace.stepsPerTexel;
+  p.tuning[1] = o.reflectivity;
+  p.flags[0] = o.shadows ? 1 : 0;
+  p.flags[1] = o.trace.skipEmptySpace ? 1 : 0;
+  p.flags[2] = int(layout.color);
+  p.flags[3] = int(layout.depth);
+  p.offsets[0] = int(layout.normal);
+  p.offsets[1] = int(layout.mask);
+  p.offsets[2] = int(layout.cell);
+  p.offsets[3] = int(layout.steps);
+  return p;
+}
+
+/// A scene the GPU backends can shade: at most kMaxLights lights (the uniform block's array).
+inline void checkLights(const render::Scene& scene, const char* backend) {
+  if (scene.lights.size() > std::size_t(kMaxLights))
+    throw Error(ErrorKind::InvalidArgument, std::string(backend) + " shades at most " + std::to_string(kMaxLights) +
+                                                " lights; the scene has " + std::to_string(scene.lights.size()));
+}
+
+/// Whether the eye lies outside every model's grid (with a margin): then every ray enters the
+/// grids from outside, where the rasterized cells show it.
+inline bool eyeOutsideScene(const render::Scene& scene, const render::Camera& camera) {
+  const Aabbd bounds = scene.boundsWS();
+  const Vec3d margin(0.01 * bounds.diagonal());
+  return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||
+         glm::any(glm::greaterThan(camera.eye, bounds.max + margin));
+}
+
+/// The cover of one model for the rasterized entry: the camera as a projection whose pixel
+/// centres are Camera::primaryRay's (OpenGL's clip conventions: y up, z in [-1, 1]), and each
+/// cell's box enlarged by two pixels at the farthest point of the scene, so that no ray that
+/// grazes a grey cell is lost to the rasterizer's rounding. `dilationCells` overrides the
+/// enlargement (tests).
+inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuScene, const render::Camera& camera,
+                               const render::RenderOptions& o, std::size_t model,
+                               std::optional<double> dilationCells = std::nullopt) {
+  const render::Camera::Basis basis = camera.basis();
+  const Vec3d &forward = basis.forward, &right = basis.right, &up = basis.up;
+  const double tanHalf = basis.tanHalf;
+  const double aspect = double(o.width) / double(o.height);
+  const Aabbd bounds = scene.boundsWS();
+  double farthest = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3d corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
+                       (c & 4) ? bounds.max.z : bounds.min.z);
+    farthest = std::max(farthest, glm::dot(corner - camera.eye, forward));
+  }
+  const Vec3d closest = glm::clamp(camera.eye, bounds.min, bounds.max);
+  const double nearPlane = std::max(1e-9 * bounds.diagonal(), 0.5 * glm::length(closest - camera.eye));
+  const double farPlane = 2 * std::max(farthest, nearPlane) + bounds.diagonal();
+  const double a = (farPlane + nearPlane) / (farPlane - nearPlane), b = 2 * farPlane * nearPlane / (farPlane - nearPlane);
+  const Vec3d rows[4] = {right / (tanHalf * aspect), up / tanHalf, a * forward, forward};
+  const double offsets[4] = {-glm::dot(rows[0], camera.eye), -glm::dot(rows[1], camera.eye),
+                             -glm::dot(rows[2], camera.eye) - b, -glm::dot(rows[3], camera.eye)};
+  CoverParams p{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 3; ++c) p.viewProjection[c * 4 + r] = float(rows[r][c]);
+    p.viewProjection[12 + r] = float(offsets[r]);
+  }
+  const relief::ReliefModel& m = *scene.models[model];
+  for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
+  p.originAndCellSize[3] = float(m.cellSizeWS);
+  const double pixelWS = 2 * tanHalf * std::max(farthest, 0.0) / double(o.height);
+  p.dilation[0] = float(dilationCells ? *dilationCells : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
+  p.cellOffset[0] = gpuScene.models[model].cellOffset;
+  return p;
+}
+
+/// One run of equal words the frame buffer is cleared to.
+struct WordFill {
+  std::size_t offset = 0, words = 0;
+  std::uint32_t value = 0;
+};
+
+/// The miss values of every written channel: what a ray that meets no grey cell writes (the
+/// rasterized entry clears the frame to them; its fragment pass writes the covered pixels).
+inline std::vector<WordFill> missFills(const FrameLayout& layout, const render::Scene& scene) {
+  const std::size_t pixels = std::size_t(layout.width) * std::size_t(layout.height);
+  std::uint32_t background = 0;
+  for (int c = 0; c < 4; ++c)
+    background |= std::uint32_t(std::floor(255.0f * std::clamp(scene.background[c], 0.0f, 1.0f) + 0.5f)) << (8 * c);
+  const float inf = std::numeric_limits<float>::infinity(), minusOne = -1.0f;
+  std::uint32_t infBits = 0, minusOneBits = 0;
+  std::memcpy(&infBits, &inf, 4);
+  std::memcpy(&minusOneBits, &minusOne, 4);
+  std::vector<WordFill> fills;
+  auto fill = [&](unsigned channel, std::size_t offset, std::size_t words, std::uint32_t value) {
+    if (layout.written & channel) fills.push_back({offset, words, value});
+  };
+  fill(render::kColor, layout.color, pixels, background);
+  fill(render::kDepth, layout.depth, pixels, infBits);
+  fill(render::kNormal, layout.normal, 3 * pixels, 0u);
+  fill(render::kMask, layout.mask, pixels, 0u);
+  fill(render::kCell, layout.cell, pixels, minusOneBits);
+  fill(render::kSteps, layout.steps, pixels, 0u);
+  return fills;
+}
+
+/// The frame buffer's words as the channels the caller asked for.
+inline void unpackFrame(const std::uint32_t* words, const FrameLayout& layout, render::Frame& frame) {
+  const int w = layout.width, h = layout.height;
+  frame.resize(w, h, layout.channels);
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  if (frame.has(render::kColor)) {
+    auto out = frame.color.levelData();
+    for (std::size_t i = 0; i < pixels; ++i)
+      for (int c = 0; c < 4; ++c) out[4 * i + std::size_t(c)] = std::uint8_t(words[layout.color + i] >> (8 * c));
+  }
+  if (frame.has(render::kDepth)) std::memcpy(frame.depth.levelData().data(), &words[layout.depth], pixels * 4);
+  if (frame.has(render::kNormal)) std::memcpy(frame.normal.levelData().data(), &words[layout.normal], 3 * pixels * 4);
+  if (frame.has(render::kMask)) {
+    auto out = frame.mask.levelData();
+    for (std::size_t i = 0; i < pixels; ++i) out[i] = std::uint8_t(words[layout.mask + i]);
+  }
+  if (frame.has(render::kCell)) std::memcpy(frame.cell.levelData().data(), &words[layout.cell], pixels * 4);
+  if (frame.has(render::kSteps)) std::memcpy(frame.steps.levelData().data(), &words[layout.steps], pixels * 4);
+}
+
+}  // namespace cellrelief::gpu
