@@ -20,6 +20,9 @@
 #ifdef CELLRELIEF_HAS_OPENGL
 #include "cellrelief/gl/gl_backend.h"
 #endif
+#ifdef CELLRELIEF_HAS_VULKAN
+#include "cellrelief/vulkan/vulkan_backend.h"
+#endif
 #include "cellrelief/render/backend.h"
 
 namespace cellrelief::backends {
@@ -43,7 +46,7 @@ inline render::Availability isAvailable(render::BackendKind kind) {
 #endif
     case BackendKind::Vulkan:
 #ifdef CELLRELIEF_HAS_VULKAN
-      return {false, "the Vulkan backend is not implemented in this version of cellrelief"};
+      return vulkan::probeAvailability();
 #else
       return {false, "compiled without Vulkan (install libvulkan-dev glslc)"};
 #endif
@@ -84,6 +87,9 @@ inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind) 
     case render::BackendKind::Cpu: return std::make_unique<cpu::CpuBackend>();
 #ifdef CELLRELIEF_HAS_OPENGL
     case render::BackendKind::OpenGL: return std::make_unique<gl::GlBackend>();
+#endif
+#ifdef CELLRELIEF_HAS_VULKAN
+    case render::BackendKind::Vulkan: return std::make_unique<vulkan::VulkanBackend>();
 #endif
     default: break;
   }

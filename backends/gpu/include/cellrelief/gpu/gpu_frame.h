@@ -148,14 +148,17 @@ inline bool eyeOutsideScene(const render::Scene& scene, const render::Camera& ca
          glm::any(glm::greaterThan(camera.eye, bounds.max + margin));
 }
 
+/// Clip space of the API: OpenGL's has y up and z in [-1, 1], Vulkan's y down and z in [0, 1].
+enum class ClipSpace { OpenGL, Vulkan };
+
 /// The cover of one model for the rasterized entry: the camera as a projection whose pixel
-/// centres are Camera::primaryRay's (OpenGL's clip conventions: y up, z in [-1, 1]), and each
-/// cell's box enlarged by two pixels at the farthest point of the scene, so that no ray that
-/// grazes a grey cell is lost to the rasterizer's rounding. `dilationCells` overrides the
-/// enlargement (tests).
+/// centres are Camera::primaryRay's, and each cell's box enlarged by two pixels at the farthest
+/// point of the scene, so that no ray that grazes a grey cell is lost to the rasterizer's
+/// rounding. `dilationCells` overrides the enlargement (tests).
 inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuScene, const render::Camera& camera,
                                const render::RenderOptions& o, std::size_t model,
-                               std::optional<double> dilationCells = std::nullopt) {
+                               std::optional<double> dilationCells = std::nullopt,
+                               ClipSpace clip = ClipSpace::OpenGL) {
   const render::Camera::Basis basis = camera.basis();
   const Vec3d &forward = basis.forward, &right = basis.right, &up = basis.up;
   const double tanHalf = basis.tanHalf;
@@ -170,8 +173,11 @@ inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuSc
   const Vec3d closest = glm::clamp(camera.eye, bounds.min, bounds.max);
   const double nearPlane = std::max(1e-9 * bounds.diagonal(), 0.5 * glm::length(closest - camera.eye));
   const double farPlane = 2 * std::max(farthest, nearPlane) + bounds.diagonal();
-  const double a = (farPlane + nearPlane) / (farPlane - nearPlane), b = 2 * farPlane * nearPlane / (farPlane - nearPlane);
-  const Vec3d rows[4] = {right / (tanHalf * aspect), up / tanHalf, a * forward, forward};
+  // Depth d maps to z = (a d - b) / d: -1 (OpenGL) or 0 (Vulkan) at the near plane, 1 at the far.
+  const bool vulkan = clip == ClipSpace::Vulkan;
+  const double a = vulkan ? farPlane / (farPlane - nearPlane) : (farPlane + nearPlane) / (farPlane - nearPlane);
+  const double b = (vulkan ? 1 : 2) * farPlane * nearPlane / (farPlane - nearPlane);
+  const Vec3d rows[4] = {right / (tanHalf * aspect), (vulkan ? -up : up) / tanHalf, a * forward, forward};
   const double offsets[4] = {-glm::dot(rows[0], camera.eye), -glm::dot(rows[1], camera.eye),
                              -glm::dot(rows[2], camera.eye) - b, -glm::dot(rows[3], camera.eye)};
   CoverParams p{};
