@@ -7,6 +7,8 @@
 // the test writes expected, actual and diff PNGs under the build tree and prints their paths.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -71,10 +73,11 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
   auto cpu = backends::createBackend(BackendKind::Cpu);
   cpu->upload(scene);
   int compared = 0;
+  std::map<BackendKind, std::vector<Frame>> frames;  // per GPU backend, per view
   for (BackendKind kind : {BackendKind::OpenGL, BackendKind::Vulkan}) {
     const Availability available = backends::isAvailable(kind);
     if (!available) {
-      if (kind == BackendKind::OpenGL && test::inCI()) ADD_FAILURE() << "OpenGL must run under CI: " << available.reason;
+      if (test::inCI()) ADD_FAILURE() << backendName(kind) << " must run under CI: " << available.reason;
       std::printf("%s: skipped (%s)\n", std::string(backendName(kind)).c_str(), available.reason.c_str());
       continue;
     }
@@ -82,7 +85,7 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
     gpu->upload(scene);
     for (std::size_t v = 0; v < cameras.size(); ++v) {
       const Frame expected = cpu->renderFrame(cameras[v], options);
-      const Frame actual = gpu->renderFrame(cameras[v], options);
+      const Frame& actual = frames[kind].emplace_back(gpu->renderFrame(cameras[v], options));
       const FrameAgreement a = compareFrames(expected, actual, spacing);
       ++compared;
       std::printf("%s view %zu on %s: %zu hits, mask %.2e (%zu px), depth texels median %.4f p95 %.4f max %.2f, "
@@ -114,6 +117,24 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
         io::writePng(frameDiffImage(expected, actual, spacing), dir / (stem + "_diff.png"));
         std::printf("wrote %s/%s_{expected_cpu,actual,diff}.png\n", dir.c_str(), stem.c_str());
       }
+    }
+  }
+  // The two GPU backends run one GLSL source: they must agree with each other as closely as each
+  // agrees with the CPU.
+  if (frames.count(BackendKind::OpenGL) && frames.count(BackendKind::Vulkan)) {
+    for (std::size_t v = 0; v < cameras.size(); ++v) {
+      const FrameAgreement a = compareFrames(frames[BackendKind::OpenGL][v], frames[BackendKind::Vulkan][v], spacing);
+      std::printf("%s view %zu opengl vs vulkan: %zu hits, mask %.2e (%zu px), depth texels median %.4f p95 %.4f "
+                  "max %.2f, normal p95 %.3f deg, color p99 %.0f, cells differ %.2e, steps differ %.3f\n",
+                  c.name.c_str(), v, a.bothHit, a.maskFraction, a.maskDiffers, a.medianTexels, a.p95Texels,
+                  a.maxTexels, a.p95Degrees, a.p99Color, a.cellFraction, a.meanSteps);
+      EXPECT_LE(a.maskFraction, kMask);
+      EXPECT_LE(a.p95Texels, kP95);
+      EXPECT_LE(a.maxTexels, kMax);
+      EXPECT_LE(a.p95Degrees, kP95Deg);
+      EXPECT_LE(a.p99Color, kP99Color);
+      EXPECT_LE(a.cellFraction, kCells);
+      EXPECT_LE(a.meanSteps, kSteps);
     }
   }
   if (compared == 0 && !test::inCI()) GTEST_SKIP() << "no GPU backend runs here";

@@ -61,10 +61,10 @@ class EveryBackend : public ::testing::TestWithParam<BackendKind> {
  protected:
   void SetUp() override {
     const Availability a = backends::isAvailable(GetParam());
-    // OpenGL comes up on every Debian machine this project supports (llvmpipe without a GPU):
-    // under CI its absence is a failure, not a skip.
-    if (!a && GetParam() == BackendKind::OpenGL && test::inCI())
-      FAIL() << "OpenGL must run under CI: " << a.reason;
+    // OpenGL and Vulkan come up on every Debian machine this project supports (llvmpipe and
+    // lavapipe without a GPU): under CI their absence is a failure, not a skip.
+    if (!a && GetParam() != BackendKind::Cpu && test::inCI())
+      FAIL() << backendName(GetParam()) << " must run under CI: " << a.reason;
     if (!a) GTEST_SKIP() << backendName(GetParam()) << ": " << a.reason;
     mBackend = backends::createBackend(GetParam());
   }
