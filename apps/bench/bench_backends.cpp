@@ -3,12 +3,13 @@
 /// Benchmark: one scene, one camera, the same rays on every renderer that runs here. For each
 /// mesh (Igea, armadillo, the 1M-triangle Igea; fertility with --quick) it converts at default
 /// settings and renders primary rays (depth and mask) and shaded frames with shadow rays on the
-/// CPU reference, on OpenGL (llvmpipe gets LP_NUM_THREADS = the CPU backend's threads), and casts
+/// CPU reference, on OpenGL and Vulkan (llvmpipe and lavapipe get LP_NUM_THREADS = the CPU
+/// backend's threads; each also with its general shader and its compute entry), and casts
 /// the same primary and shadow rays with Embree on the original mesh. Prints Mrays/s, the ratio to
 /// the CPU reference, the agreement of every channel with it, and the scene bytes; writes
 /// backends.csv and the plot backends.png.
 ///
-///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024]
+///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024] [--device NAME]
 #include <cstdio>
 #include <cstdlib>
 #include <atomic>
@@ -124,8 +125,11 @@ int main(int argc, char** argv) {
   int size = 1024;
   options.addTo(app);
   app.add_option("--size", size, "Frames of size x size pixels")->capture_default_str();
+  backends::BackendSettings settings;
+  app.add_option("--device", settings.vulkanDevice, backends::kDeviceHelp);
   CLI11_PARSE(app, argc, argv);
-  // llvmpipe reads its thread count when the first context is made: the same as the CPU's.
+  // llvmpipe and lavapipe read their thread count when the first context or device is made: the
+  // same as the CPU's.
   const std::string lpThreads = std::to_string(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
   setenv("LP_NUM_THREADS", lpThreads.c_str(), 0);
   const ThreadLimit limit{std::size_t(options.threads)};
@@ -175,22 +179,26 @@ int main(int argc, char** argv) {
         std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
         continue;
       }
-      auto backend = backends::createBackend(kind);
+      auto backend = backends::createBackend(kind, kind == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
       rows.push_back({std::string(render::backendName(kind)), backend->description(),
                       measureBackend(*backend, scene, camera, size, repeats, options.threads)});
+      // What the scene's own shader variant saves (the same frames with the general shader), and
+      // the default entry (grey cells rasterized, the paper's way) against a compute pass over
+      // every pixel: the same rows on both GPU backends.
+      auto variantRows = [&](auto& gpu, const std::string& prefix) {
+        gpu.setGeneralShader(true);
+        rows.push_back({prefix + "-general", "the one shader with every projection, map and feature",
+                        measureBackend(gpu, scene, camera, size, repeats, options.threads)});
+        gpu.setGeneralShader(false);
+        gpu.setRayEntry(gpu::RayEntry::Compute);
+        rows.push_back({prefix + "-compute", "the traversal as a compute pass over every pixel",
+                        measureBackend(gpu, scene, camera, size, repeats, options.threads)});
+      };
 #ifdef CELLRELIEF_HAS_OPENGL
-      // What the scene's own shader variant saves: the same frames with the general shader.
-      if (auto* gl = dynamic_cast<gl::GlBackend*>(backend.get())) {
-        gl->setGeneralShader(true);
-        rows.push_back({"opengl-general", "the one shader with every projection, map and feature",
-                        measureBackend(*backend, scene, camera, size, repeats, options.threads)});
-        // The default enters the rays the paper's way (grey cells rasterized); the alternative is
-        // a compute pass over every pixel.
-        gl->setGeneralShader(false);
-        gl->setRayEntry(gl::RayEntry::Compute);
-        rows.push_back({"opengl-compute", "the traversal as a compute pass over every pixel",
-                        measureBackend(*backend, scene, camera, size, repeats, options.threads)});
-      }
+      if (auto* gl = dynamic_cast<gl::GlBackend*>(backend.get())) variantRows(*gl, "opengl");
+#endif
+#ifdef CELLRELIEF_HAS_VULKAN
+      if (auto* vk = dynamic_cast<vulkan::VulkanBackend*>(backend.get())) variantRows(*vk, "vulkan");
 #endif
     }
     {

@@ -18,7 +18,7 @@ namespace cellrelief::app {
 namespace {
 
 struct CompareCli {
-  std::string input, output = "out/compare", size = "512x512", camera;
+  std::string input, output = "out/compare", size = "512x512", camera, device;
   bool shadows = true;
   int repeat = 3;
 };
@@ -57,12 +57,13 @@ int runCompare(const CompareCli& o) {
   options.height = height;
   options.shadows = o.shadows;
   std::vector<Rendered> runs;
+  const backends::BackendSettings settings{.vulkanDevice = o.device};
   for (const auto& [kind, available] : backends::renderers()) {
     if (!available) {
       std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
       continue;
     }
-    auto backend = backends::createBackend(kind);
+    auto backend = backends::createBackend(kind, kind == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
     try {
       backend->upload(scene);
     } catch (const Error& e) {
@@ -120,6 +121,7 @@ Command addCompareBackendsCommand(CLI::App& app) {
   cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
+  cmd->add_option("--device", o->device, backends::kDeviceHelp);
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");
   cmd->add_option("--repeat", o->repeat, "Timed frames per backend (the fastest is reported)")

@@ -21,7 +21,7 @@ namespace cellrelief::app {
 namespace {
 
 struct RenderCli {
-  std::string input, output, backend = "auto", size = "800x800", camera, depth, normals;
+  std::string input, output, backend = "auto", device, size = "800x800", camera, depth, normals;
   bool shadows = true, skip = true;
   int reflections = 0;
 };
@@ -127,7 +127,7 @@ Image<std::uint8_t> normalImage(const render::Frame& frame) {
 
 int runRender(const RenderCli& o) {
   const auto [width, height] = parseImageSize(o.size);
-  auto backend = backends::createBackend(o.backend);
+  auto backend = backends::createBackend(render::parseBackendKind(o.backend), {.vulkanDevice = o.device});
   const render::Scene scene = render::Scene::of(loadOrConvert(o.input));
   render::RenderOptions options;
   options.width = width;
@@ -192,6 +192,7 @@ Command addRenderCommand(CLI::App& app) {
   cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
+  cmd->add_option("--device", o->device, backends::kDeviceHelp);
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");

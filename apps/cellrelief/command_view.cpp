@@ -29,7 +29,7 @@ namespace cellrelief::app {
 namespace {
 
 struct ViewCli {
-  std::string input, backend = "auto", size = "960x720", camera, screenshot, channel = "color";
+  std::string input, backend = "auto", device, size = "960x720", camera, screenshot, channel = "color";
   int frames = 0;
 };
 
@@ -182,7 +182,14 @@ int runView(const ViewCli& o) {
   }
   // The backend first: its EGL display must come up before GLFW's (GLFW terminates EGL on exit).
   render::BackendKind kind = backends::resolve(render::parseBackendKind(o.backend));
-  std::unique_ptr<render::Backend> backend = backends::createBackend(kind);
+  const backends::BackendSettings settings{.vulkanDevice = o.device};
+  auto create = [&](render::BackendKind k) {
+    return backends::createBackend(k, k == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
+  };
+  if (!o.device.empty() && kind != render::BackendKind::Vulkan)
+    throw Error(ErrorKind::InvalidArgument, "--device names a Vulkan device, but the backend is " +
+                                                std::string(render::backendName(kind)) + " (use --backend vulkan)");
+  std::unique_ptr<render::Backend> backend = create(kind);
   backend->upload(scene);
 
   if (!glfwInit()) throw Error(ErrorKind::Unsupported, "view: GLFW cannot start (no display? run under xvfb-run)");
@@ -225,7 +232,7 @@ int runView(const ViewCli& o) {
         std::printf("view: %s is not available: %s\n", std::string(render::backendName(wanted)).c_str(), a.reason.c_str());
       } else if (wanted != kind) {
         kind = wanted;
-        backend = backends::createBackend(kind);
+        backend = create(kind);
         backend->upload(scene);
       }
     }
@@ -299,6 +306,7 @@ Command addViewCommand(CLI::App& app) {
   auto o = std::make_shared<ViewCli>();
   cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
+  cmd->add_option("--device", o->device, backends::kDeviceHelp);
   cmd->add_option("--size", o->size, "Window size WxH")->capture_default_str();
   cmd->add_option("--camera", o->camera, "Starting view: yaw,pitch[,fov] or ex,ey,ez,tx,ty,tz[,fov]");
   cmd->add_option("--frames", o->frames, "Render this many frames, then exit (0: until closed)")

@@ -172,7 +172,8 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
       {"render " + spot.string() + " -o x.png --camera 1,x", "'x' is not a number"},
       {"render " + spot.string() + " -o x.png --camera 35,20,0", "field of view"},
       {"render " + spot.string() + " -o x.png --backend metal", "valid: auto, cpu, opengl, vulkan"},
-      {"render " + spot.string() + " -o x.png --backend vulkan", "backend 'vulkan'"},
+      {"render " + spot.string() + " -o x.png --backend vulkan --device no-such-gpu-42", "no-such-gpu-42"},
+      {"render " + spot.string() + " -o x.png --backend cpu --device llvmpipe", "is not Vulkan"},
       {"bench nosuch", "no such benchmark"}};
   for (const auto& [args, words] : cases) {
     const Result r = run(args);
@@ -197,21 +198,26 @@ int differingPixels(const std::filesystem::path& a, const std::filesystem::path&
   return count;
 }
 
-TEST(Cli, RenderAndCompareBackendsOnOpenGL) {
+TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
   const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
   CELLRELIEF_REQUIRE_FILE(spot);
   test::TempDir dir;
-  const Result gl = run("render " + spot.string() + " -o " + (dir / "gl.png").string() + " --size 96x64 --backend opengl");
-  ASSERT_EQ(gl.status, 0) << gl.output;
-  EXPECT_NE(gl.output.find("on OpenGL"), std::string::npos) << gl.output;
   const Result cpu = run("render " + spot.string() + " -o " + (dir / "cpu.png").string() + " --size 96x64 --backend cpu");
   ASSERT_EQ(cpu.status, 0) << cpu.output;
-  EXPECT_EQ(differingPixels(dir / "gl.png", dir / "cpu.png"), 0);
+  for (const auto& [backend, described] : {std::pair{"opengl", "on OpenGL"}, std::pair{"vulkan", "on Vulkan"}}) {
+    const std::string png = (dir / (std::string(backend) + ".png")).string();
+    const Result r = run("render " + spot.string() + " -o " + png + " --size 96x64 --backend " + backend);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find(described), std::string::npos) << r.output;
+    EXPECT_EQ(differingPixels(png, dir / "cpu.png"), 0) << backend;
+  }
   const Result cmp = run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 -o " + (dir / "cmp").string());
   ASSERT_EQ(cmp.status, 0) << cmp.output;
-  for (const char* words : {"cpu ", "opengl ", "Mrays/s", "mask"}) EXPECT_NE(cmp.output.find(words), std::string::npos) << words;
+  for (const char* words : {"cpu ", "opengl ", "vulkan ", "Mrays/s", "mask"})
+    EXPECT_NE(cmp.output.find(words), std::string::npos) << words;
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "side_by_side.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_opengl.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_vulkan.png"));
   const Result bad = run("compare-backends absent.crm -o " + (dir / "bad").string());
   EXPECT_EQ(bad.status, 1) << bad.output;
   EXPECT_NE(bad.output.find("absent.crm"), std::string::npos) << bad.output;
@@ -219,7 +225,7 @@ TEST(Cli, RenderAndCompareBackendsOnOpenGL) {
 }
 
 // The viewer in a real window (Xvfb) for a few frames: its screenshot is the headless render of
-// the same camera, pixel for pixel, on the CPU and on the OpenGL backend.
+// the same camera, pixel for pixel, on the CPU, OpenGL and Vulkan backends.
 TEST(Cli, ViewerUnderXvfbShowsTheHeadlessRender) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
     if (test::inCI()) FAIL() << "xvfb-run is missing (Debian package xvfb)";
@@ -230,7 +236,7 @@ TEST(Cli, ViewerUnderXvfbShowsTheHeadlessRender) {
   test::TempDir dir;
   const Result model = run("convert " + spot.string() + " -o " + (dir / "spot.crm").string());
   ASSERT_EQ(model.status, 0) << model.output;
-  for (const char* backend : {"cpu", "opengl"}) {
+  for (const char* backend : {"cpu", "opengl", "vulkan"}) {
     const std::string shot = (dir / (std::string(backend) + "_window.png")).string();
     const std::string headless = (dir / (std::string(backend) + "_headless.png")).string();
     const std::string common = " --size 160x120 --camera 150,15 --backend " + std::string(backend);

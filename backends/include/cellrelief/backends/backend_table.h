@@ -32,6 +32,16 @@ inline constexpr const char* kBackendHelp =
     "auto, cpu, opengl or vulkan (auto: OpenGL where it comes up, measured faster than the CPU "
     "reference on llvmpipe too; else cpu; see docs/backends.md)";
 
+/// What --device takes, for a command line's help.
+inline constexpr const char* kDeviceHelp =
+    "Vulkan device to render on: part of its name, case-insensitive (e.g. llvmpipe, NVIDIA); default: "
+    "CELLRELIEF_VULKAN_DEVICE, else the first discrete, integrated, virtual, then CPU device";
+
+/// How to create a backend beyond its kind.
+struct BackendSettings {
+  std::string vulkanDevice;  ///< part of a Vulkan device's name (vulkan/vulkan_context.h); empty: the ranking
+};
+
 /// Whether `kind` can render here; for Auto, whether any backend can.
 inline render::Availability isAvailable(render::BackendKind kind) {
   using render::BackendKind;
@@ -78,8 +88,13 @@ inline render::BackendKind resolve(render::BackendKind kind) {
 }
 
 /// A new backend of `kind`; throws Error (Unsupported) with the reason when it cannot run here.
-inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind) {
+/// A Vulkan device named in `settings` is an error for a backend that is not Vulkan (the name
+/// would otherwise be ignored).
+inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind, const BackendSettings& settings = {}) {
   const render::BackendKind resolved = resolve(kind);
+  if (!settings.vulkanDevice.empty() && resolved != render::BackendKind::Vulkan)
+    throw Error(ErrorKind::InvalidArgument, "a Vulkan device ('" + settings.vulkanDevice + "') was named, but backend '" +
+                                                std::string(render::backendName(resolved)) + "' is not Vulkan");
   if (const render::Availability a = isAvailable(resolved); !a)
     throw Error(ErrorKind::Unsupported,
                 "backend '" + std::string(render::backendName(resolved)) + "': " + a.reason);
@@ -89,7 +104,8 @@ inline std::unique_ptr<render::Backend> createBackend(render::BackendKind kind) 
     case render::BackendKind::OpenGL: return std::make_unique<gl::GlBackend>();
 #endif
 #ifdef CELLRELIEF_HAS_VULKAN
-    case render::BackendKind::Vulkan: return std::make_unique<vulkan::VulkanBackend>();
+    case render::BackendKind::Vulkan:
+      return std::make_unique<vulkan::VulkanBackend>(vulkan::ContextOptions{.device = settings.vulkanDevice});
 #endif
     default: break;
   }
