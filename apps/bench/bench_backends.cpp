@@ -10,6 +10,7 @@
 /// backends.csv and the plot backends.png.
 ///
 ///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024] [--device NAME]
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <atomic>
@@ -34,6 +35,7 @@ using namespace cellrelief;
 namespace {
 
 struct Measured {
+  double firstSeconds = 0;  ///< upload and the first frame: tracers built, shader variant compiled (or read from a cache)
   double primarySeconds = 0, shadedSeconds = 0, deviceSeconds = 0;
   std::size_t shadowRays = 0, bytes = 0;
   render::Frame primary;
@@ -43,13 +45,15 @@ struct Measured {
 Measured measureBackend(render::Backend& backend, const render::Scene& scene, const render::Camera& camera,
                         int size, int repeats, int threads) {
   Measured m;
-  backend.upload(scene);
   render::RenderOptions options;
   options.width = options.height = size;
   options.threads = std::size_t(threads);
   options.channels = render::kDepth | render::kMask | render::kNormal | render::kCell | render::kSteps;
   options.shadows = false;
-  backend.renderFrame(camera, options);  // warm-up: tracers, shader compilation
+  m.firstSeconds = bench::medianSeconds(1, [&] {
+    backend.upload(scene);
+    backend.renderFrame(camera, options);  // warm-up: tracers, shader compilation
+  });
   m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = backend.renderFrame(camera, options); });
   m.deviceSeconds = backend.deviceSeconds();
   options.channels = render::kColor;
@@ -152,7 +156,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   bench::CsvWriter csv(std::filesystem::path(options.out) / "backends.csv",
-                       "mesh,backend,device,pixels,hits,primary_mrays,shaded_mpixels,shadow_rays,vs_cpu_primary,"
+                       "mesh,backend,device,pixels,hits,first_frame_s,primary_mrays,shaded_mpixels,shadow_rays,vs_cpu_primary,"
                        "vs_cpu_shaded,mask_disagreement,median_depth_texels,p95_depth_texels,scene_bytes");
   std::printf("%d threads (LP_NUM_THREADS=%s); %dx%d pixels from a framing camera; median of %d frames\n",
               options.threads, std::getenv("LP_NUM_THREADS"), size, size, repeats);
@@ -168,7 +172,7 @@ int main(int argc, char** argv) {
     std::printf("\n%s: %zu triangles -> N = %d, T = %d, %zu grey cells\n", name.c_str(), mesh.triangleCount(),
                 model->gridSize, model->texels, model->cells.size());
     std::printf("%-8s %10s %10s %8s %10s %8s %10s %9s %9s %12s  %s\n", "backend", "prim Mr/s", "vs cpu",
-                "", "shaded Mp/s", "vs cpu", "mask", "depth med", "depth p95", "scene bytes", "device");
+                "first s", "shaded Mp/s", "vs cpu", "mask", "depth med", "depth p95", "scene bytes", "device");
     struct Row {
       std::string backend, device;
       Measured m;
@@ -202,11 +206,14 @@ int main(int argc, char** argv) {
 #endif
     }
     {
+      const auto built = std::chrono::steady_clock::now();
       const embree::EmbreeScene embree(mesh);
+      const double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
       const Vec3f light = glm::normalize(scene.lights[0].direction);
       rows.push_back({"embree", "Embree 3 rtcIntersect1/rtcOccluded1 on the original mesh, " +
                                     std::to_string(options.threads) + " threads",
                       measureEmbree(embree, camera, size, repeats, light, float(2 * spacing))});
+      rows.back().m.firstSeconds = buildSeconds;
     }
     const Measured& cpu = rows[0].m;
     const double pixels = double(size) * double(size);
@@ -215,12 +222,13 @@ int main(int argc, char** argv) {
     for (const Row& r : rows) {
       const render::FrameAgreement a = render::compareFrames(cpu.primary, r.m.primary, spacing);
       const double primary = pixels / r.m.primarySeconds * 1e-6, shaded = pixels / r.m.shadedSeconds * 1e-6;
-      std::printf("%-8s %10.2f %9.2fx %8s %10.2f %7.2fx %10.2e %9.4f %9.4f %12zu  %s\n", r.backend.c_str(), primary,
-                  cpu.primarySeconds / r.m.primarySeconds, "", shaded, cpu.shadedSeconds / r.m.shadedSeconds,
+      std::printf("%-8s %10.2f %9.2fx %8.2f %10.2f %7.2fx %10.2e %9.4f %9.4f %12zu  %s\n", r.backend.c_str(), primary,
+                  cpu.primarySeconds / r.m.primarySeconds, r.m.firstSeconds, shaded, cpu.shadedSeconds / r.m.shadedSeconds,
                   a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes, r.device.c_str());
       if (r.m.deviceSeconds > 0)
         std::printf("%-8s device clock: %.2f Mrays/s\n", "", pixels / r.m.deviceSeconds * 1e-6);
-      csv.row(name, r.backend, '"' + r.device + '"', std::size_t(pixels), countHits(r.m.primary), primary, shaded,
+      csv.row(name, r.backend, '"' + r.device + '"', std::size_t(pixels), countHits(r.m.primary), r.m.firstSeconds,
+              primary, shaded,
               r.m.shadowRays, cpu.primarySeconds / r.m.primarySeconds, cpu.shadedSeconds / r.m.shadedSeconds,
               a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes);
       if (!seriesOf.count(r.backend)) {
@@ -243,7 +251,9 @@ int main(int argc, char** argv) {
   plot.series = series;
   const std::filesystem::path png = std::filesystem::path(options.out) / "backends.png";
   plot.write(png);
-  std::printf("\nvs cpu = the CPU reference's time / this backend's on the same frame; mask and depth: "
+  std::printf("\nvs cpu = the CPU reference's time / this backend's on the same frame; first s = upload and "
+              "the first frame (tracers built, the shader variant compiled or read from Mesa's disk cache; "
+              "Embree: its BVH build); mask and depth: "
               "agreement of the primary frame with the CPU reference (depth in sample spacings; Embree "
               "is the original mesh, so its figures are the relief model's own error)\nwrote %s and %s\n",
               csv.path().c_str(), png.c_str());

@@ -141,7 +141,9 @@ int runRender(const RenderCli& o) {
   } catch (const Error& e) {
     throw Error(e.kind(), std::filesystem::path(o.input), e.what());
   }
-  backend->render(camera, options);  // the first frame builds the tracers (or compiles the shader)
+  // The first frame builds the tracers (or compiles the shader); it is read back, so that the
+  // timed frame does not wait for it on an asynchronous backend.
+  backend->renderFrame(camera, options);
   const auto t0 = std::chrono::steady_clock::now();
   backend->render(camera, options);
   render::Frame frame;

@@ -56,6 +56,29 @@ TEST(BackendTable, UnavailableBackendsSayWhyAndAutoResolvesToOneThatRuns) {
   EXPECT_EQ(backends::createBackend("auto")->kind(), backends::resolve(BackendKind::Auto));
 }
 
+TEST(BackendTable, AutoTakesAHardwareGpuElseOpenGLOnASoftwareRasterizer) {
+  const BackendKind chosen = backends::resolve(BackendKind::Auto);
+  bool hardware = false, softwareGl = false;
+#ifdef CELLRELIEF_HAS_VULKAN
+  hardware |= vulkan::probe().availability && !vulkan::probe().software;
+#endif
+#ifdef CELLRELIEF_HAS_OPENGL
+  hardware |= gl::probe().availability && !gl::probe().software;
+  softwareGl = gl::probe().availability && gl::probe().software;
+#endif
+  if (hardware) {
+    EXPECT_NE(chosen, BackendKind::Cpu);
+#ifdef CELLRELIEF_HAS_VULKAN
+    if (chosen == BackendKind::Vulkan) EXPECT_FALSE(vulkan::probe().software);
+#endif
+#ifdef CELLRELIEF_HAS_OPENGL
+    if (chosen == BackendKind::OpenGL) EXPECT_FALSE(gl::probe().software);
+#endif
+  } else if (softwareGl) {
+    EXPECT_EQ(chosen, BackendKind::OpenGL) << "measured: OpenGL on llvmpipe, shaders cached on disk";
+  }
+}
+
 /// The suite that every backend runs.
 class EveryBackend : public ::testing::TestWithParam<BackendKind> {
  protected:
