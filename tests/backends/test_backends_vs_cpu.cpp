@@ -58,6 +58,28 @@ constexpr double kMask = 2.5e-4, kMedian = 1e-3, kP95 = 1e-3, kMax = 0.05;
 constexpr double kMedianDeg = 0.01, kP95Deg = 0.05, kMeanColor = 0.05, kP99Color = 1;
 constexpr double kCells = 2.5e-4, kSteps = 0.05;  // measured: 0 and at most 0.033 steps per ray
 
+/// Prints one comparison and checks it against the bounds; whether it is within all of them.
+bool reportAndCheck(const FrameAgreement& a, const std::string& what) {
+  std::printf("%s: %zu hits, mask %.2e (%zu px), depth texels median %.4f p95 %.4f max %.2f, "
+              "normal median %.3f p95 %.3f deg, color mean %.3f p99 %.0f, cells differ %.2e, steps differ %.3f\n",
+              what.c_str(), a.bothHit, a.maskFraction, a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels,
+              a.medianDegrees, a.p95Degrees, a.meanColor, a.p99Color, a.cellFraction, a.meanSteps);
+  EXPECT_GT(a.bothHit, 2000u) << what;
+  EXPECT_LE(a.maskFraction, kMask) << what;
+  EXPECT_LE(a.medianTexels, kMedian) << what;
+  EXPECT_LE(a.p95Texels, kP95) << what;
+  EXPECT_LE(a.maxTexels, kMax) << what;
+  EXPECT_LE(a.medianDegrees, kMedianDeg) << what;
+  EXPECT_LE(a.p95Degrees, kP95Deg) << what;
+  EXPECT_LE(a.meanColor, kMeanColor) << what;
+  EXPECT_LE(a.p99Color, kP99Color) << what;
+  EXPECT_LE(a.cellFraction, kCells) << what;
+  EXPECT_LE(a.meanSteps, kSteps) << what;
+  return a.bothHit > 2000 && a.maskFraction <= kMask && a.medianTexels <= kMedian && a.p95Texels <= kP95 &&
+         a.maxTexels <= kMax && a.medianDegrees <= kMedianDeg && a.p95Degrees <= kP95Deg &&
+         a.meanColor <= kMeanColor && a.p99Color <= kP99Color && a.cellFraction <= kCells && a.meanSteps <= kSteps;
+}
+
 class BackendsVsCpu : public ::testing::TestWithParam<MeshCase> {};
 
 TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
@@ -86,28 +108,9 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
     for (std::size_t v = 0; v < cameras.size(); ++v) {
       const Frame expected = cpu->renderFrame(cameras[v], options);
       const Frame& actual = frames[kind].emplace_back(gpu->renderFrame(cameras[v], options));
-      const FrameAgreement a = compareFrames(expected, actual, spacing);
       ++compared;
-      std::printf("%s view %zu on %s: %zu hits, mask %.2e (%zu px), depth texels median %.4f p95 %.4f max %.2f, "
-                  "normal median %.3f p95 %.3f deg, color mean %.3f p99 %.0f, cells differ %.2e, steps differ %.3f\n",
-                  c.name.c_str(), v, std::string(backendName(kind)).c_str(), a.bothHit, a.maskFraction,
-                  a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees, a.p95Degrees,
-                  a.meanColor, a.p99Color, a.cellFraction, a.meanSteps);
-      const bool ok = a.bothHit > 2000 && a.maskFraction <= kMask && a.medianTexels <= kMedian &&
-                      a.p95Texels <= kP95 && a.maxTexels <= kMax && a.medianDegrees <= kMedianDeg &&
-                      a.p95Degrees <= kP95Deg && a.meanColor <= kMeanColor && a.p99Color <= kP99Color &&
-                      a.cellFraction <= kCells && a.meanSteps <= kSteps;
-      EXPECT_GT(a.bothHit, 2000u);
-      EXPECT_LE(a.maskFraction, kMask);
-      EXPECT_LE(a.medianTexels, kMedian);
-      EXPECT_LE(a.p95Texels, kP95);
-      EXPECT_LE(a.maxTexels, kMax);
-      EXPECT_LE(a.medianDegrees, kMedianDeg);
-      EXPECT_LE(a.p95Degrees, kP95Deg);
-      EXPECT_LE(a.meanColor, kMeanColor);
-      EXPECT_LE(a.p99Color, kP99Color);
-      EXPECT_LE(a.cellFraction, kCells);
-      EXPECT_LE(a.meanSteps, kSteps);
+      const bool ok = reportAndCheck(compareFrames(expected, actual, spacing),
+                                     c.name + " view " + std::to_string(v) + " on " + std::string(backendName(kind)));
       if (!ok) {
         const std::filesystem::path dir = std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "backend_failures";
         std::filesystem::create_directories(dir);
@@ -123,18 +126,8 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
   // agrees with the CPU.
   if (frames.count(BackendKind::OpenGL) && frames.count(BackendKind::Vulkan)) {
     for (std::size_t v = 0; v < cameras.size(); ++v) {
-      const FrameAgreement a = compareFrames(frames[BackendKind::OpenGL][v], frames[BackendKind::Vulkan][v], spacing);
-      std::printf("%s view %zu opengl vs vulkan: %zu hits, mask %.2e (%zu px), depth texels median %.4f p95 %.4f "
-                  "max %.2f, normal p95 %.3f deg, color p99 %.0f, cells differ %.2e, steps differ %.3f\n",
-                  c.name.c_str(), v, a.bothHit, a.maskFraction, a.maskDiffers, a.medianTexels, a.p95Texels,
-                  a.maxTexels, a.p95Degrees, a.p99Color, a.cellFraction, a.meanSteps);
-      EXPECT_LE(a.maskFraction, kMask);
-      EXPECT_LE(a.p95Texels, kP95);
-      EXPECT_LE(a.maxTexels, kMax);
-      EXPECT_LE(a.p95Degrees, kP95Deg);
-      EXPECT_LE(a.p99Color, kP99Color);
-      EXPECT_LE(a.cellFraction, kCells);
-      EXPECT_LE(a.meanSteps, kSteps);
+      reportAndCheck(compareFrames(frames[BackendKind::OpenGL][v], frames[BackendKind::Vulkan][v], spacing),
+                     c.name + " view " + std::to_string(v) + " opengl vs vulkan");
     }
   }
   if (compared == 0 && !test::inCI()) GTEST_SKIP() << "no GPU backend runs here";

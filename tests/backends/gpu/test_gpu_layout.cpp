@@ -9,6 +9,7 @@
 #include <set>
 
 #include <cellrelief/core/procedural.h>
+#include <cellrelief/gpu/gpu_frame.h>
 #include <cellrelief/gpu/gpu_layout.h>
 #include <cellrelief/gpu/shader_preamble.h>
 #include <cellrelief/relief/convert.h>
@@ -96,6 +97,29 @@ TEST(GpuLayout, AScenePastTheLimitsIsRefusedWithTheModelAndTheLimitNamed) {
   limits = {};
   limits.maxTotalBytes = 1000;
   EXPECT_THROW(packScene(render::Scene::of(model), limits, true), Error);
+}
+
+TEST(GpuFrame, TheLayoutHoldsTheWrittenChannelsAndAFrameBeyondTheBufferIsRefused) {
+  render::RenderOptions o;
+  o.width = 300;
+  o.height = 200;
+  o.channels = render::kColor | render::kNormal;
+  const FrameLayout l = frameLayout(o, render::kColor | render::kNormal | render::kMask, std::size_t(1) << 30);
+  const std::size_t pixels = 300 * 200;
+  EXPECT_EQ(l.color, 0u);
+  EXPECT_EQ(l.normal, pixels);
+  EXPECT_EQ(l.mask, 4 * pixels);
+  EXPECT_EQ(l.words, 5 * pixels);
+  std::size_t missWords = 0;
+  for (const WordFill& f : missFills(l, render::Scene{})) missWords += f.words;
+  EXPECT_EQ(missWords, l.words) << "every written word has a miss value";
+  try {
+    frameLayout(o, render::kAllChannels, std::size_t(1) << 20);
+    ADD_FAILURE() << "a 300x200 frame of every channel fit in 1 MiB";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::ResourceLimit);
+    EXPECT_NE(std::string(e.what()).find("300x200"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ShaderPreamble, TheConstantsComeFromTheCppValues) {

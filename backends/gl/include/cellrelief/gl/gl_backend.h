@@ -42,7 +42,7 @@ using gpu::FrameLayout;
 using gpu::FrameParams;
 using gpu::RayEntry;
 
-class GlBackend final : public render::Backend {
+class GlBackend final : public render::Backend, public gpu::TraversalControls {
  public:
   GlBackend() : mContext(std::make_unique<EglContext>()) { queryLimits(); }
   ~GlBackend() override {
@@ -91,12 +91,8 @@ class GlBackend final : public render::Backend {
                   "the scene (" + gpu::detail::mib(mGpu.bytes()) + ") could not be uploaded to " +
                       mContext->renderer() + (e == GL_OUT_OF_MEMORY ? ": out of device memory" : ": GL error " + std::to_string(e)));
     }
-    // The host copy of the atlases is not needed any more; the layout (models, features) is.
     mGpuBytes = mGpu.bytes();
-    mGpu.distances.texels = {};
-    mGpu.normalsOct.texels = {};
-    mGpu.normalsRgba.texels = {};
-    mGpu.colors.texels = {};
+    mGpu.dropTexels();
     mUploaded = true;
   }
 
@@ -162,29 +158,8 @@ class GlBackend final : public render::Backend {
 
   /// GPU time of the last frame's dispatch (a timer query), known after readBack().
   double deviceSeconds() const override { return mGpuSeconds; }
-  /// Render with the one shader that holds every projection, map and feature (to measure what
-  /// the specialized variants save).
-  void setGeneralShader(bool general) { mGeneral = general; }
-  /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
-  void setGather(bool gather) { mGather = gather; }
-  /// Rasterized grey cells and a fragment pass (the default), or a compute pass over all pixels.
-  /// The rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
-  void setRayEntry(RayEntry entry) { mEntry = entry; }
-  /// How the last render reached its pixels.
-  RayEntry lastRayEntry() const { return mLastEntry; }
-  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them):
-  /// for tests that check the stencil really limits the fragment pass.
-  void setCoverDilation(std::optional<double> cells) { mCoverDilation = cells; }
   /// The variant the next render with these options uses.
-  gpu::ShaderVariant variantFor(const render::RenderOptions& options) const {
-    gpu::ShaderVariant v = mGeneral ? gpu::ShaderVariant::general()
-                                    : gpu::ShaderVariant::specialized(mGpu.features, options.trace.skipEmptySpace,
-                                                                      options.shadows, options.reflectionBounces > 0,
-                                                                      options.channels);
-    if (mGeneral) v.channels = render::kAllChannels;
-    v.gather = mGather;
-    return v;
-  }
+  gpu::ShaderVariant variantFor(const render::RenderOptions& options) const { return variantOf(mGpu.features, options); }
   /// Seconds spent compiling and linking shader variants so far.
   double compileSeconds() const { return mCompileSeconds; }
 
@@ -428,12 +403,10 @@ class GlBackend final : public render::Backend {
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
   GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;
   int mStencilWidth = 0, mStencilHeight = 0;
-  RayEntry mEntry = RayEntry::Rasterized, mLastEntry = RayEntry::Compute;
-  std::optional<double> mCoverDilation;
   std::size_t mFrameWords = 0;
   std::map<std::string, GLuint> mPrograms;
   FrameLayout mLayout;
-  bool mUploaded = false, mRendered = false, mGeneral = false, mGather = true;
+  bool mUploaded = false, mRendered = false;
   double mGpuSeconds = 0, mCompileSeconds = 0;
 };
 

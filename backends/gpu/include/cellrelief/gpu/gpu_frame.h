@@ -30,6 +30,39 @@ namespace cellrelief::gpu {
 /// compute pass over all of them (docs/backends.md compares them). Both give the same frame.
 enum class RayEntry { Compute, Rasterized };
 
+/// The switches both GPU backends offer (to measure what each choice costs, and for tests), and
+/// the shader variant they select for a scene and options.
+class TraversalControls {
+ public:
+  /// Render with the one shader that holds every projection, map and feature (to measure what
+  /// the specialized variants save).
+  void setGeneralShader(bool general) { mGeneral = general; }
+  /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
+  void setGather(bool gather) { mGather = gather; }
+  /// Rasterized grey cells and a fragment pass (the default), or a compute pass over all pixels.
+  /// The rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
+  void setRayEntry(RayEntry entry) { mEntry = entry; }
+  /// How the last render reached its pixels.
+  RayEntry lastRayEntry() const { return mLastEntry; }
+  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them):
+  /// for tests that check the stencil really limits the fragment pass.
+  void setCoverDilation(std::optional<double> cells) { mCoverDilation = cells; }
+
+ protected:
+  ShaderVariant variantOf(const SceneFeatures& features, const render::RenderOptions& options) const {
+    ShaderVariant v = mGeneral ? ShaderVariant::general()
+                               : ShaderVariant::specialized(features, options.trace.skipEmptySpace, options.shadows,
+                                                            options.reflectionBounces > 0, options.channels);
+    if (mGeneral) v.channels = render::kAllChannels;
+    v.gather = mGather;
+    return v;
+  }
+
+  bool mGeneral = false, mGather = true;
+  RayEntry mEntry = RayEntry::Rasterized, mLastEntry = RayEntry::Compute;
+  std::optional<double> mCoverDilation;
+};
+
 /// The std140 uniform block `Params` of relief_trace.comp.
 struct FrameParams {
   float eye[4], forward[4], right[4], up[4], ambient[4], background[4];

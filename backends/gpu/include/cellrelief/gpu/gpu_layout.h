@@ -120,6 +120,14 @@ struct GpuScene {
   Atlas<std::uint8_t> colors;             ///< RGBA8UI colors
   SceneFeatures features;
 
+  /// Frees the atlases' texels once they are on the device; the layout (models, features) stays.
+  void dropTexels() {
+    distances.texels = {};
+    normalsOct.texels = {};
+    normalsRgba.texels = {};
+    colors.texels = {};
+  }
+
   std::size_t bytes() const {
     return models.size() * sizeof(ModelInfo) + cells.size() * sizeof(relief::CellRecord) +
            hashSlots.size() * sizeof(std::uint32_t) + pyramid.size() * sizeof(std::uint16_t) +

@@ -38,7 +38,7 @@ namespace cellrelief::vulkan {
 
 using gpu::RayEntry;
 
-class VulkanBackend final : public render::Backend {
+class VulkanBackend final : public render::Backend, public gpu::TraversalControls {
  public:
   explicit VulkanBackend(const ContextOptions& options = {}) : mContext(std::make_unique<VulkanContext>(options)) {
     try {
@@ -67,11 +67,7 @@ class VulkanBackend final : public render::Backend {
     mGpu = gpu::packScene(scene, mLimits, true);
     guard([&] { uploadScene(); });
     mGpuBytes = mGpu.bytes();
-    // The host copy of the atlases is not needed any more; the layout (models, features) is.
-    mGpu.distances.texels = {};
-    mGpu.normalsOct.texels = {};
-    mGpu.normalsRgba.texels = {};
-    mGpu.colors.texels = {};
+    mGpu.dropTexels();
     mUploaded = true;
   }
 
@@ -117,24 +113,8 @@ class VulkanBackend final : public render::Backend {
   /// GPU time of the last frame (a timestamp pair around its commands), known after readBack().
   double deviceSeconds() const override { return mGpuSeconds; }
 
-  /// Render with the general pipeline (every switch on) to measure what the variants save.
-  void setGeneralShader(bool general) { mGeneral = general; }
-  /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
-  void setGather(bool gather) { mGather = gather; }
-  /// Rasterized grey cells and a fragment pass (the default), or a compute pass over all pixels.
-  void setRayEntry(RayEntry entry) { mEntry = entry; }
-  RayEntry lastRayEntry() const { return mLastEntry; }
-  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks).
-  void setCoverDilation(std::optional<double> cells) { mCoverDilation = cells; }
-  gpu::ShaderVariant variantFor(const render::RenderOptions& options) const {
-    gpu::ShaderVariant v = mGeneral ? gpu::ShaderVariant::general()
-                                    : gpu::ShaderVariant::specialized(mGpu.features, options.trace.skipEmptySpace,
-                                                                      options.shadows, options.reflectionBounces > 0,
-                                                                      options.channels);
-    if (mGeneral) v.channels = render::kAllChannels;
-    v.gather = mGather;
-    return v;
-  }
+  /// The variant the next render with these options uses.
+  gpu::ShaderVariant variantFor(const render::RenderOptions& options) const { return variantOf(mGpu.features, options); }
   /// Seconds spent building pipelines (the driver compiling the variants) so far.
   double compileSeconds() const { return mCompileSeconds; }
   /// Pipelines built so far (one per variant and entry).
@@ -732,9 +712,7 @@ class VulkanBackend final : public render::Backend {
   VkFence mFence = VK_NULL_HANDLE;
   VkQueryPool mTimestamps = VK_NULL_HANDLE;
   gpu::FrameLayout mLayout;
-  RayEntry mEntry = RayEntry::Rasterized, mLastEntry = RayEntry::Compute;
-  std::optional<double> mCoverDilation;
-  bool mUploaded = false, mRendered = false, mInFlight = false, mLost = false, mGeneral = false, mGather = true;
+  bool mUploaded = false, mRendered = false, mInFlight = false, mLost = false;
   double mGpuSeconds = 0, mCompileSeconds = 0;
 };
 
