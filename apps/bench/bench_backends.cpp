@@ -9,11 +9,12 @@
 /// the CPU reference, the agreement of every channel with it, and the scene bytes; writes
 /// backends.csv and the plot backends.png.
 ///
-///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024] [--device NAME]
+///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024|WxH] [--device NAME]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <atomic>
+#include <charconv>
 #include <map>
 #include <memory>
 #include <thread>
@@ -43,10 +44,11 @@ struct Measured {
 
 /// Primary rays, then shaded frames with one shadow ray per lit hit, on a backend.
 Measured measureBackend(render::Backend& backend, const render::Scene& scene, const render::Camera& camera,
-                        int size, int repeats, int threads) {
+                        int width, int height, int repeats, int threads) {
   Measured m;
   render::RenderOptions options;
-  options.width = options.height = size;
+  options.width = width;
+  options.height = height;
   options.threads = std::size_t(threads);
   options.channels = render::kDepth | render::kMask | render::kNormal | render::kCell | render::kSteps;
   options.shadows = false;
@@ -66,16 +68,17 @@ Measured measureBackend(render::Backend& backend, const render::Scene& scene, co
 
 /// Embree on the original mesh: the same primary rays, and a shadow ray towards the light from
 /// every hit that faces it.
-Measured measureEmbree(const embree::EmbreeScene& embree, const render::Camera& camera, int size, int repeats,
+Measured measureEmbree(const embree::EmbreeScene& embree, const render::Camera& camera, int width, int height,
+                       int repeats,
                        const Vec3f& light, float offset) {
   Measured m;
-  m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = embree.renderReference(camera, size, size); });
+  m.primarySeconds = bench::medianSeconds(repeats, [&] { m.primary = embree.renderReference(camera, width, height); });
   std::atomic<std::size_t> shadowRays{0};
   m.shadedSeconds = bench::medianSeconds(repeats, [&] {
     shadowRays = 0;
-    parallelFor(0, std::size_t(size) * size, [&](std::size_t i) {
-      const int x = int(i % std::size_t(size)), y = int(i / std::size_t(size));
-      const Rayd primary = camera.primaryRay(x, y, size, size);
+    parallelFor(0, std::size_t(width) * std::size_t(height), [&](std::size_t i) {
+      const int x = int(i % std::size_t(width)), y = int(i / std::size_t(width));
+      const Rayd primary = camera.primaryRay(x, y, width, height);
       const Rayf ray(Vec3f(primary.origin), Vec3f(primary.direction));
       const auto hit = embree.intersect(ray);
       if (!hit.valid()) return;
@@ -126,9 +129,9 @@ int main(int argc, char** argv) {
   CLI::App app{"One scene on every backend: Mrays/s, agreement with the CPU reference, scene bytes", "bench_backends"};
   bench::BenchOptions options;
   options.threads = 2;
-  int size = 1024;
+  std::string sizeText = "1024";
   options.addTo(app);
-  app.add_option("--size", size, "Frames of size x size pixels")->capture_default_str();
+  app.add_option("--size", sizeText, "Frame size: N (N x N pixels) or WxH, e.g. 1920x1080")->capture_default_str();
   backends::BackendSettings settings;
   app.add_option("--device", settings.vulkanDevice, backends::kDeviceHelp);
   CLI11_PARSE(app, argc, argv);
@@ -137,7 +140,23 @@ int main(int argc, char** argv) {
   const std::string lpThreads = std::to_string(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
   setenv("LP_NUM_THREADS", lpThreads.c_str(), 0);
   const ThreadLimit limit{std::size_t(options.threads)};
-  if (options.quick) size = std::min(size, 128);
+  int width = 0, height = 0;
+  {
+    // Each side must be the whole of its text: "12by3" is refused, not read as 12.
+    auto side = [](const std::string& text) {
+      int v = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+      return error == std::errc() && end == text.data() + text.size() ? v : 0;
+    };
+    const std::size_t x = sizeText.find('x');
+    width = side(sizeText.substr(0, x));
+    height = x == std::string::npos ? width : side(sizeText.substr(x + 1));
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+      std::fprintf(stderr, "bench_backends: --size '%s': expected N or WxH with sides from 1 to 16384\n", sizeText.c_str());
+      return 1;
+    }
+  }
+  if (options.quick) width = std::min(width, 128), height = std::min(height, 128);
   const int repeats = options.quick ? 1 : 3;
 
   std::vector<std::pair<std::string, TriangleMesh>> meshes;
@@ -159,7 +178,7 @@ int main(int argc, char** argv) {
                        "mesh,backend,device,pixels,hits,first_frame_s,primary_mrays,shaded_mpixels,shadow_rays,vs_cpu_primary,"
                        "vs_cpu_shaded,mask_disagreement,median_depth_texels,p95_depth_texels,scene_bytes");
   std::printf("%d threads (LP_NUM_THREADS=%s); %dx%d pixels from a framing camera; median of %d frames\n",
-              options.threads, std::getenv("LP_NUM_THREADS"), size, size, repeats);
+              options.threads, std::getenv("LP_NUM_THREADS"), width, height, repeats);
   std::vector<app::PlotSeries> series;
   std::map<std::string, std::size_t> seriesOf;
   int meshIndex = 0;
@@ -185,18 +204,18 @@ int main(int argc, char** argv) {
       }
       auto backend = backends::createBackend(kind, kind == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
       rows.push_back({std::string(render::backendName(kind)), backend->description(),
-                      measureBackend(*backend, scene, camera, size, repeats, options.threads)});
+                      measureBackend(*backend, scene, camera, width, height, repeats, options.threads)});
       // What the scene's own shader variant saves (the same frames with the general shader), and
       // the default entry (grey cells rasterized, the paper's way) against a compute pass over
       // every pixel: the same rows on both GPU backends.
       auto variantRows = [&](auto& gpu, const std::string& prefix) {
         gpu.setGeneralShader(true);
         rows.push_back({prefix + "-general", "the one shader with every projection, map and feature",
-                        measureBackend(gpu, scene, camera, size, repeats, options.threads)});
+                        measureBackend(gpu, scene, camera, width, height, repeats, options.threads)});
         gpu.setGeneralShader(false);
         gpu.setRayEntry(gpu::RayEntry::Compute);
         rows.push_back({prefix + "-compute", "the traversal as a compute pass over every pixel",
-                        measureBackend(gpu, scene, camera, size, repeats, options.threads)});
+                        measureBackend(gpu, scene, camera, width, height, repeats, options.threads)});
       };
 #ifdef CELLRELIEF_HAS_OPENGL
       if (auto* gl = dynamic_cast<gl::GlBackend*>(backend.get())) variantRows(*gl, "opengl");
@@ -212,11 +231,11 @@ int main(int argc, char** argv) {
       const Vec3f light = glm::normalize(scene.lights[0].direction);
       rows.push_back({"embree", "Embree 3 rtcIntersect1/rtcOccluded1 on the original mesh, " +
                                     std::to_string(options.threads) + " threads",
-                      measureEmbree(embree, camera, size, repeats, light, float(2 * spacing))});
+                      measureEmbree(embree, camera, width, height, repeats, light, float(2 * spacing))});
       rows.back().m.firstSeconds = buildSeconds;
     }
     const Measured& cpu = rows[0].m;
-    const double pixels = double(size) * double(size);
+    const double pixels = double(width) * double(height);
     std::printf("%-8s %.1f field evaluations and skip steps per primary ray; 8-lane occupancy %.0f%%\n", "",
                 meanSteps(cpu.primary), 100 * laneOccupancy(cpu.primary));
     for (const Row& r : rows) {
