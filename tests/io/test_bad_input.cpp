@@ -91,6 +91,42 @@ TEST(BadMeshInput, TruncatedBinaryPly) {
   expectMeshError(dir / "header_only.ply", ErrorKind::FileFormat, "end_header");
 }
 
+// Mutated headers that once sent OpenMesh's PLY reader into loops of over a minute (issue 13):
+// each must fail at once, naming the line.
+TEST(BadMeshInput, MalformedPlyHeaderLinesFailAtOnce) {
+  test::TempDir dir;
+  const std::string body = binaryTriangle(0, 2);
+  const std::string vertexProperties = "property float x\nproperty float y\nproperty float z\n";
+  const std::string faceProperties = "property list uchar int vertex_indices\nend_header\n";
+  const std::pair<std::string, std::string> formats[] = {
+      {"format binary_little_endian \n", "malformed format line"},
+      {"format binary_little_endian 1e308\n", "malformed format line"},
+      {"format binary_little_endian -inf\n", "malformed format line"},
+      {"format binary_little_endian 2.0\n", "malformed format line"}};
+  int index = 0;
+  for (const auto& [format, words] : formats) {
+    const auto path = dir / ("format" + std::to_string(index++) + ".ply");
+    writeBytes(path, "ply\n" + format + "element vertex 3\n" + vertexProperties + "element face 1\n" +
+                         faceProperties + body);
+    expectMeshError(path, ErrorKind::FileFormat, words);
+  }
+  for (const char* count : {"", " inf", " 1e308", " -1", " 12abc", " 99999999999999999999"}) {
+    const auto path = dir / ("count" + std::to_string(index++) + ".ply");
+    writeBytes(path, "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + vertexProperties +
+                         "element face" + std::string(count) + "\n" + faceProperties + body);
+    expectMeshError(path, ErrorKind::FileFormat, "malformed element line");
+  }
+  writeBytes(dir / "nameless.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + vertexProperties +
+                                        "element face 1\nproperty list uchar int \t\nend_header\n" + body);
+  expectMeshError(dir / "nameless.ply", ErrorKind::FileFormat, "malformed property line");
+  // A count beyond the file's bytes cannot be real (an element without properties, which holds
+  // no bytes, still sent OpenMesh through its whole count).
+  writeBytes(dir / "huge_count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + vertexProperties +
+                                          "element face 1\nproperty list uchar int vertex_indices\n"
+                                          "element nothing 999999999999999999\nend_header\n" + body);
+  expectMeshError(dir / "huge_count.ply", ErrorKind::FileFormat, "more than the file's");
+}
+
 TEST(BadMeshInput, GarbageBytes) {
   test::TempDir dir;
   std::string garbage(4096, '\0');

@@ -10,7 +10,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,6 +57,25 @@ inline int plyTypeSize(const std::string& t, bool& isFloat, bool& isSigned) {
     return 4;
   if (t == "double" || t == "float64") return 8;
   return 0;
+}
+
+/// Whether a format line's version token is 1.0, the only PLY version ("1", "1.0", "1.00").
+inline bool plyVersionOne(const std::string& v) {
+  if (v.empty() || v[0] != '1') return false;
+  if (v.size() == 1) return true;
+  if (v[1] != '.') return false;
+  return std::all_of(v.begin() + 2, v.end(), [](char c) { return c == '0'; });
+}
+
+/// An element count: decimal digits only, at most 18 of them (beyond any file); nothing else.
+inline std::optional<std::uint64_t> plyCount(const std::string& t) {
+  if (t.empty() || t.size() > 18) return std::nullopt;
+  std::uint64_t n = 0;
+  for (char c : t) {
+    if (c < '0' || c > '9') return std::nullopt;
+    n = 10 * n + std::uint64_t(c - '0');
+  }
+  return n;
 }
 
 /// Appends the triangles of one strip; odd triangles are flipped to keep the winding, and the
@@ -131,19 +152,27 @@ inline PlyScan scanPly(const std::string& path) {
     std::string key;
     ls >> key;
     if (key == "format") {
-      std::string f;
-      ls >> f;
+      std::string f, version, extra;
+      ls >> f >> version >> extra;
       if (f == "ascii") scan.format = PlyFormat::Ascii;
       else if (f == "binary_little_endian") scan.format = PlyFormat::BinaryLittleEndian;
       else if (f == "binary_big_endian") scan.format = PlyFormat::BinaryBigEndian;
       else fail("unknown PLY format '" + f + "'");
+      // Checked here, because OpenMesh's reader loops for minutes on a version that is empty,
+      // huge or not finite (found by mutating headers).
+      if (!plyVersionOne(version) || !extra.empty())
+        fail("malformed format line '" + line + "' (expected 'format " + f + " 1.0')");
       haveFormat = true;
     } else if (key == "element") {
       PlyElement e;
-      long long count = -1;
-      ls >> e.name >> count;
-      if (e.name.empty() || count < 0) fail("malformed element line '" + line + "'");
-      e.count = std::uint64_t(count);
+      std::string count, extra;
+      ls >> e.name >> count >> extra;
+      // A count is a whole decimal number: "inf", "1e308" or an empty count would otherwise be read
+      // as something else (0, 1) and send OpenMesh's reader into a long loop.
+      const std::optional<std::uint64_t> n = plyCount(count);
+      if (e.name.empty() || !n || !extra.empty())
+        fail("malformed element line '" + line + "' (expected 'element <name> <count>')");
+      e.count = *n;
       scan.elements.push_back(e);
     } else if (key == "property") {
       if (scan.elements.empty()) fail("property before any element: '" + line + "'");
@@ -163,6 +192,10 @@ inline PlyScan scanPly(const std::string& path) {
         p.size = plyTypeSize(type, p.isFloat, p.isSigned);
         if (p.size == 0) fail("unknown property type '" + type + "'");
       }
+      // A property without a name (or with more words) is malformed; OpenMesh loops on a nameless one.
+      std::string extra;
+      ls >> extra;
+      if (p.name.empty() || !extra.empty()) fail("malformed property line '" + line + "' (expected one name)");
       scan.elements.back().properties.push_back(p);
     } else if (key == "end_header") {
       ended = true;
@@ -172,10 +205,20 @@ inline PlyScan scanPly(const std::string& path) {
     }
   }
   if (!haveFormat) fail("PLY header has no format line");
+  // Every item of an element with properties takes at least one byte, so no count can exceed the
+  // file's size; one without properties takes none, but OpenMesh's reader still steps through
+  // its count, for ages when the count is huge.
+  std::error_code sizeError;
+  const std::uintmax_t fileBytes = std::filesystem::file_size(path, sizeError);
+  for (const PlyElement& e : scan.elements)
+    if (!sizeError && e.count > fileBytes)
+      fail("element '" + e.name + "' claims " + std::to_string(e.count) + " items, more than the file's " +
+           std::to_string(fileBytes) + " bytes");
   if (!ended) fail("PLY header has no end_header (file truncated or not PLY)");
 
   PlyBodyReader body(in, scan.format);
   for (const PlyElement& e : scan.elements) {
+    if (e.properties.empty()) continue;  // holds no bytes
     const bool strips = (e.name == "tristrips");
     scan.hasStrips = scan.hasStrips || strips;
     std::vector<std::int64_t> strip;
