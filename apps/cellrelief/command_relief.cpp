@@ -64,7 +64,7 @@ int runConvert(const ConvertCli& o) {
     eb.metric = o.metric == "hausdorff" ? relief::ErrorMetric::Hausdorff : relief::ErrorMetric::Rms;
     eb.convert = co;
     eb.convert.progress = nullptr;
-    relief::ErrorBoundResult r = relief::convertWithErrorBound(mesh, eb);
+    relief::ErrorBoundResult r = withPath(o.mesh, [&] { return relief::convertWithErrorBound(mesh, eb); });
     std::printf("error bound   %s <= %.4f%% of the diagonal; candidates tried (by predicted bytes):\n",
                 o.metric.c_str(), 100 * o.maxError);
     for (const auto& c : r.candidates)
@@ -75,7 +75,7 @@ int runConvert(const ConvertCli& o) {
     model = std::move(r.model);
   } else {
     co.gridSize = parseGridSize(o.grid);
-    model = relief::convert(mesh, co, &report);
+    model = withPath(o.mesh, [&] { return relief::convert(mesh, co, &report); });
     for (const auto& t : report.gridTrials)
       std::printf("grid search   N = %4d occlusion %.5f\n", t.gridSize, t.occlusionRatio);
   }

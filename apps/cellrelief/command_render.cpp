@@ -90,7 +90,7 @@ std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& inpu
     return std::make_shared<relief::ReliefModel>(relief::readRelief(input));
   const TriangleMesh mesh = io::readMesh(input);
   const auto t0 = std::chrono::steady_clock::now();
-  auto model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
+  auto model = std::make_shared<relief::ReliefModel>(withPath(input, [&] { return relief::convert(mesh); }));
   std::printf("converted     %s: N = %d, T = %d, %zu grey cells, %s in %.2f s\n", input.c_str(),
               model->gridSize, model->texels, model->cells.size(),
               formatBytes(double(model->byteSize())).c_str(),

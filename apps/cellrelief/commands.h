@@ -60,6 +60,17 @@ std::pair<int, int> parseImageSize(const std::string& size);
 /// ex,ey,ez,tx,ty,tz[,fov]. Throws Error otherwise.
 render::Camera parseCamera(const std::string& spec, const Aabbd& bounds);
 
+/// Runs `work`; an Error it throws goes on with the input's path in front, so that the user sees
+/// which file could not be converted.
+template <class Work>
+auto withPath(const std::string& input, Work&& work) {
+  try {
+    return work();
+  } catch (const Error& e) {
+    throw Error(e.kind(), std::filesystem::path(input), e.what());
+  }
+}
+
 /// A relief model read from a .crm file, or converted at default settings from a mesh (printing
 /// one line about the conversion).
 std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input);

@@ -118,6 +118,23 @@ TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
   }
 }
 
+// Flat meshes (every triangle in one plane, or in planes of the grid) make no grey cell: a clear
+// error naming the file, exit 1 and no model, never an empty model reported with "rms inf%".
+TEST(Cli, AMeshWithoutGreyCellsIsRefusedWithoutWritingAModel) {
+  test::TempDir dir;
+  for (const char* name : {"degtri_four__cgal.off", "degenerated__libigl-tests-data.obj"}) {
+    const auto mesh = test::dataDir() / "meshes/robustness" / name;
+    CELLRELIEF_REQUIRE_FILE(mesh);
+    const auto out = dir / (std::string(name) + ".crm");
+    const Result r = run("convert " + mesh.string() + " -o " + out.string());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find(mesh.string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("no grey cell with a stored sample"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("inf%"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << name;
+  }
+}
+
 TEST(Cli, ConvertAndReconstruct) {
   const auto mesh = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
   const auto texture = test::dataDir() / "meshes/small/spot_texture__cinolib.png";

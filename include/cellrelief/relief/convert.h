@@ -271,6 +271,14 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
     empty += localEmpty;
   }, 16);
   if (options.progress) options.progress(1.0);
+  // No stored sample means no model: the mesh encloses nothing the grid sees. Refused rather than
+  // written as an empty model whose error reads "inf".
+  if (filled == 0)
+    throw Error(ErrorKind::InvalidInput,
+                "the mesh gives no grey cell with a stored sample on the " + std::to_string(n) + "^3 grid (" +
+                    std::to_string(grey.size()) + " grey cells, " + std::to_string(layers) +
+                    " face layers), so no relief model: it encloses no volume the grid sees (a flat mesh, or a "
+                    "surface lying in a grid plane, is not supported yet)");
 
   rep.greyCells = grey.size();
   rep.layers = layers;
