@@ -7,11 +7,12 @@
 ///
 /// "auto" takes a hardware GPU when there is one: Vulkan on a discrete, integrated or virtual
 /// GPU, else OpenGL on a hardware renderer. On software rasterizers only (llvmpipe, lavapipe:
-/// machines without a GPU) it takes OpenGL. bench_backends measured the two at the same speed
-/// there, within this machine's noise, on one GLSL source (docs/backends.md); OpenGL wins on the
-/// first frame, because Mesa caches its compiled shader variants on disk while lavapipe compiles
-/// every pipeline again in each process. Both are 1.1x to 2.5x the CPU reference. Without either,
-/// auto is the CPU reference.
+/// machines without a GPU) it takes OpenGL: bench_backends measured Vulkan at about 1.1x
+/// OpenGL per frame there (9 of 12 measurements, the rest within this machine's noise; one GLSL
+/// source, docs/backends.md), but OpenGL reaches the first frame 0.5 to 0.7 s sooner, because
+/// Mesa caches its compiled shader variants on disk while lavapipe compiles every pipeline again
+/// in each process, and auto mostly serves one-shot commands. Both are 1.1x to 2.5x the CPU
+/// reference. Without either, auto is the CPU reference.
 #pragma once
 
 #include <memory>
@@ -32,8 +33,8 @@ namespace cellrelief::backends {
 /// What --backend takes, for a command line's help.
 inline constexpr const char* kBackendHelp =
     "auto, cpu, opengl or vulkan (auto: Vulkan on a hardware GPU, else OpenGL on one; without a GPU "
-    "OpenGL on llvmpipe: as fast as Vulkan on lavapipe, with its shaders cached on disk, and faster than "
-    "cpu; else cpu; see docs/backends.md)";
+    "OpenGL on llvmpipe: within about 10% of Vulkan on lavapipe per frame and 0.5 s sooner to the first, "
+    "its shaders cached on disk; both faster than cpu; else cpu; see docs/backends.md)";
 
 /// What --device takes, for a command line's help.
 inline constexpr const char* kDeviceHelp =
