@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
         std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
         continue;
       }
-      auto backend = backends::createBackend(kind, kind == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
+      auto backend = backends::createBackend(kind, backends::settingsFor(kind, settings));
       rows.push_back({std::string(render::backendName(kind)), backend->description(),
                       measureBackend(*backend, scene, camera, width, height, repeats, options.threads)});
       // What the scene's own shader variant saves (the same frames with the general shader), and

@@ -63,12 +63,8 @@ int runCompare(const CompareCli& o) {
       std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
       continue;
     }
-    auto backend = backends::createBackend(kind, kind == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
-    try {
-      backend->upload(scene);
-    } catch (const Error& e) {
-      throw Error(e.kind(), std::filesystem::path(o.input), e.what());
-    }
+    auto backend = backends::createBackend(kind, backends::settingsFor(kind, settings));
+    withPath(o.input, [&] { backend->upload(scene); });
     Rendered r{kind, backend->description(), 0, 0, backend->sceneBytes(), {}};
     backend->renderFrame(camera, options);  // warm-up: tracers, shader compilation
     double best = 1e30, bestDevice = 0;

@@ -136,11 +136,7 @@ int runRender(const RenderCli& o) {
   options.reflectionBounces = o.reflections;
   options.trace.skipEmptySpace = o.skip;
   const render::Camera camera = parseCamera(o.camera, scene.boundsWS());
-  try {
-    backend->upload(scene);
-  } catch (const Error& e) {
-    throw Error(e.kind(), std::filesystem::path(o.input), e.what());
-  }
+  withPath(o.input, [&] { backend->upload(scene); });
   // The first frame builds the tracers (or compiles the shader); it is read back, so that the
   // timed frame does not wait for it on an asynchronous backend.
   backend->renderFrame(camera, options);

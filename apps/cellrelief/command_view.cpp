@@ -184,7 +184,7 @@ int runView(const ViewCli& o) {
   render::BackendKind kind = backends::resolve(render::parseBackendKind(o.backend));
   const backends::BackendSettings settings{.vulkanDevice = o.device};
   auto create = [&](render::BackendKind k) {
-    return backends::createBackend(k, k == render::BackendKind::Vulkan ? settings : backends::BackendSettings{});
+    return backends::createBackend(k, backends::settingsFor(k, settings));
   };
   if (!o.device.empty() && kind != render::BackendKind::Vulkan)
     throw Error(ErrorKind::InvalidArgument, "--device names a Vulkan device, but the backend is " +

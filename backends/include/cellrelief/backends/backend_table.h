@@ -46,6 +46,12 @@ struct BackendSettings {
   std::string vulkanDevice;  ///< part of a Vulkan device's name (vulkan/vulkan_context.h); empty: the ranking
 };
 
+/// The settings that apply to `kind`: for a program that creates several kinds of backend from
+/// one --device (which names a Vulkan device only).
+inline BackendSettings settingsFor(render::BackendKind kind, const BackendSettings& settings) {
+  return kind == render::BackendKind::Vulkan ? settings : BackendSettings{};
+}
+
 /// Whether `kind` can render here; for Auto, whether any backend can.
 inline render::Availability isAvailable(render::BackendKind kind) {
   using render::BackendKind;

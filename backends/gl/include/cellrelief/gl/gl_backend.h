@@ -165,15 +165,14 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
 
  private:
   void queryLimits() {
-    GLint size = 0, layers = 0, block = 0;
+    GLint size = 0, layers = 0;
+    GLint64 block = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &size);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-    GLint64 block64 = 0;
-    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block64);
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     mLimits.maxTextureSize = size > 0 ? size : 2048;
     mLimits.maxArrayLayers = layers > 0 ? layers : 256;
-    mLimits.maxStorageBytes = block64 > 0 ? std::size_t(block64) : std::size_t(block > 0 ? block : 1 << 27);
+    mLimits.maxStorageBytes = block > 0 ? std::size_t(block) : std::size_t(1) << 27;
     // The shader indexes buffers with 32-bit ints: no buffer beyond 2^31 bytes, whatever the driver.
     mLimits.maxStorageBytes = std::min<std::size_t>(mLimits.maxStorageBytes, std::size_t(1) << 31);
     mLimits.maxTotalBytes = deviceMemoryBytes();

@@ -138,15 +138,25 @@ inline const char* resultName(VkResult r) {
   }
 }
 
-/// Throws an Error for a failed call: out of memory is a ResourceLimit, a lost device or anything
-/// else Unsupported, each with the call and the result's name.
+/// The Error of a failed Vulkan call, carrying its VkResult (a lost device is told by it).
+class VulkanError : public Error {
+ public:
+  VulkanError(ErrorKind kind, const std::string& message, VkResult result) : Error(kind, message), mResult(result) {}
+  VkResult result() const { return mResult; }
+
+ private:
+  VkResult mResult;
+};
+
+/// Throws a VulkanError for a failed call: out of memory is a ResourceLimit, a lost device or
+/// anything else Unsupported, each with the call and the result's name.
 inline void check(VkResult result, const char* what) {
   if (result == VK_SUCCESS) return;
   const bool memory = result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY;
   std::string message = std::string("Vulkan: ") + what + " failed: " + resultName(result);
   if (result == VK_ERROR_DEVICE_LOST) message += " (the device was lost: a driver reset or a fault)";
   if (std::string(resultName(result)) == "VkResult") message += " " + std::to_string(int(result));
-  throw Error(memory ? ErrorKind::ResourceLimit : ErrorKind::Unsupported, message);
+  throw VulkanError(memory ? ErrorKind::ResourceLimit : ErrorKind::Unsupported, message, result);
 }
 
 }  // namespace cellrelief::vulkan

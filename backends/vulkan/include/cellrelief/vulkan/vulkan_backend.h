@@ -230,32 +230,27 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
         {mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord)},
         {mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t)},
         {mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t)}};
-    std::size_t total = 0;
-    for (const BufferUpload& b : buffers) total += align(b.bytes);
-    Buffer staging = mContext->createBuffer(std::max<std::size_t>(total, 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Memory::Upload);
-    try {
-      std::size_t at = 0;
-      std::size_t offsets[4];
-      for (int i = 0; i < 4; ++i) {
-        offsets[i] = at;
-        if (buffers[i].bytes) std::memcpy(static_cast<char*>(staging.mapped) + at, buffers[i].data, buffers[i].bytes);
-        at += align(buffers[i].bytes);
-        mBuffers[i] = mContext->createBuffer(buffers[i].bytes, storage, Memory::DeviceLocal);
-      }
-      mContext->flush(staging);
-      mContext->submitAndWait([&](VkCommandBuffer cmd) {
-        for (int i = 0; i < 4; ++i) {
-          if (buffers[i].bytes == 0) continue;
-          const VkBufferCopy region{offsets[i], 0, buffers[i].bytes};
-          mContext->api().vkCmdCopyBuffer(cmd, staging.buffer, mBuffers[i].buffer, 1, &region);
-        }
-        barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kShaderStages, VK_ACCESS_SHADER_READ_BIT);
-      });
-    } catch (...) {
-      mContext->destroy(staging);
-      throw;
+    std::size_t offsets[4], total = 0;
+    for (int i = 0; i < 4; ++i) {
+      offsets[i] = total;
+      total += align(buffers[i].bytes);
+      mBuffers[i] = mContext->createBuffer(buffers[i].bytes, storage, Memory::DeviceLocal);
     }
-    mContext->destroy(staging);
+    mContext->uploadThroughStaging(
+        total,
+        [&](char* staging) {
+          for (int i = 0; i < 4; ++i)
+            if (buffers[i].bytes) std::memcpy(staging + offsets[i], buffers[i].data, buffers[i].bytes);
+        },
+        [&](VkCommandBuffer cmd, VkBuffer staging) {
+          for (int i = 0; i < 4; ++i) {
+            if (buffers[i].bytes == 0) continue;
+            const VkBufferCopy region{offsets[i], 0, buffers[i].bytes};
+            mContext->api().vkCmdCopyBuffer(cmd, staging, mBuffers[i].buffer, 1, &region);
+          }
+          barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kShaderStages,
+                  VK_ACCESS_SHADER_READ_BIT);
+        });
     std::vector<ImageUpload> images;
     auto atlas = [&](Image& image, const auto& a, VkFormat format) {
       if (a.empty()) return;
@@ -279,41 +274,32 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   /// Copies texels into the images through one staging buffer and leaves them shader-readable.
   void uploadImages(const std::vector<ImageUpload>& images) {
     if (images.empty()) return;
+    std::vector<std::size_t> offsets;
     std::size_t total = 0;
-    for (const ImageUpload& u : images) total += align(u.bytes);
-    Buffer staging = mContext->createBuffer(total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Memory::Upload);
-    try {
-      std::vector<std::size_t> offsets;
-      std::size_t at = 0;
-      for (const ImageUpload& u : images) {
-        offsets.push_back(at);
-        std::memcpy(static_cast<char*>(staging.mapped) + at, u.texels, u.bytes);
-        at += align(u.bytes);
-      }
-      mContext->flush(staging);
-      const Api& vk = mContext->api();
-      mContext->submitAndWait([&](VkCommandBuffer cmd) {
-        for (std::size_t i = 0; i < images.size(); ++i) {
-          const Image& im = *images[i].image;
-          transition(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(im.layers), VK_IMAGE_LAYOUT_UNDEFINED,
-                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
-                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-          VkBufferImageCopy region{};
-          region.bufferOffset = offsets[i];
-          region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, std::uint32_t(im.layers)};
-          region.imageExtent = {std::uint32_t(im.width), std::uint32_t(im.height), 1};
-          vk.vkCmdCopyBufferToImage(cmd, staging.buffer, im.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-          transition(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(im.layers),
-                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kShaderStages,
-                     VK_ACCESS_SHADER_READ_BIT);
-        }
-      });
-    } catch (...) {
-      mContext->destroy(staging);
-      throw;
-    }
-    mContext->destroy(staging);
+    for (const ImageUpload& u : images) offsets.push_back(total), total += align(u.bytes);
+    const Api& vk = mContext->api();
+    mContext->uploadThroughStaging(
+        total,
+        [&](char* staging) {
+          for (std::size_t i = 0; i < images.size(); ++i) std::memcpy(staging + offsets[i], images[i].texels, images[i].bytes);
+        },
+        [&](VkCommandBuffer cmd, VkBuffer staging) {
+          for (std::size_t i = 0; i < images.size(); ++i) {
+            const Image& im = *images[i].image;
+            transition(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(im.layers), VK_IMAGE_LAYOUT_UNDEFINED,
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+            VkBufferImageCopy region{};
+            region.bufferOffset = offsets[i];
+            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, std::uint32_t(im.layers)};
+            region.imageExtent = {std::uint32_t(im.width), std::uint32_t(im.height), 1};
+            vk.vkCmdCopyBufferToImage(cmd, staging, im.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+            transition(cmd, im.image, VK_IMAGE_ASPECT_COLOR_BIT, std::uint32_t(im.layers),
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kShaderStages,
+                       VK_ACCESS_SHADER_READ_BIT);
+          }
+        });
   }
 
   void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, std::uint32_t layers,
@@ -649,8 +635,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   void guard(F&& work) {
     try {
       work();
-    } catch (const Error& e) {
-      if (std::string(e.what()).find("VK_ERROR_DEVICE_LOST") != std::string::npos) mLost = true;
+    } catch (const VulkanError& e) {
+      mLost = mLost || e.result() == VK_ERROR_DEVICE_LOST;
       throw;
     }
   }

@@ -165,18 +165,31 @@ class VulkanContext {
   /// Makes the device's writes visible to the host (non-coherent memory).
   void invalidate(const Buffer& b) const {
     if (b.coherent || !b.mapped) return;
-    auto range = make<VkMappedMemoryRange>(VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE);
-    range.memory = b.memory;
-    range.size = VK_WHOLE_SIZE;
+    const VkMappedMemoryRange range = wholeRange(b);
     check(mApi.vkInvalidateMappedMemoryRanges(mDevice, 1, &range), "vkInvalidateMappedMemoryRanges");
   }
   /// Makes the host's writes visible to the device (non-coherent memory).
   void flush(const Buffer& b) const {
     if (b.coherent || !b.mapped) return;
-    auto range = make<VkMappedMemoryRange>(VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE);
-    range.memory = b.memory;
-    range.size = VK_WHOLE_SIZE;
+    const VkMappedMemoryRange range = wholeRange(b);
     check(mApi.vkFlushMappedMemoryRanges(mDevice, 1, &range), "vkFlushMappedMemoryRanges");
+  }
+
+  /// Uploads through a host-visible staging buffer of `bytes`: `fill` writes it, `record` records
+  /// the copies out of it; the commands run to completion, and the staging buffer is released
+  /// whatever happens.
+  void uploadThroughStaging(std::size_t bytes, const std::function<void(char*)>& fill,
+                            const std::function<void(VkCommandBuffer, VkBuffer)>& record) const {
+    Buffer staging = createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Memory::Upload);
+    try {
+      fill(static_cast<char*>(staging.mapped));
+      flush(staging);
+      submitAndWait([&](VkCommandBuffer cmd) { record(cmd, staging.buffer); });
+    } catch (...) {
+      destroy(staging);
+      throw;
+    }
+    destroy(staging);
   }
 
   /// A 2D array image (optimal tiling, device-local) and a view of all its layers.
@@ -261,6 +274,13 @@ class VulkanContext {
   const std::vector<std::string>& deviceNames() const { return mDeviceNames; }
 
  private:
+  static VkMappedMemoryRange wholeRange(const Buffer& b) {
+    auto range = make<VkMappedMemoryRange>(VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE);
+    range.memory = b.memory;
+    range.size = VK_WHOLE_SIZE;
+    return range;
+  }
+
   static bool envFlag(const char* name) {
     const char* v = std::getenv(name);
     return v && *v && std::strcmp(v, "0") != 0;
