@@ -77,8 +77,15 @@ int runConvert(const ConvertCli& o) {
     co.gridSize = parseGridSize(o.grid);
     model = withPath(o.mesh, [&] { return relief::convert(mesh, co, &report); });
     for (const auto& t : report.gridTrials)
-      std::printf("grid search   N = %4d occlusion %.5f\n", t.gridSize, t.occlusionRatio);
+      if (t.hausdorff >= 0)
+        std::printf("grid search   N = %4d hausdorff %.4f%% of the diagonal\n", t.gridSize, 100 * t.hausdorff);
+      else
+        std::printf("grid search   N = %4d occlusion %.5f\n", t.gridSize, t.occlusionRatio);
   }
+  if (relief::flatAxis(mesh))
+    std::printf("flat mesh     modelled as a closed slab %.3g world units thick (%.2g%% of its size)\n",
+                relief::kFlatSlabThickness * double(std::max({mesh.bounds().extent().x, mesh.bounds().extent().y, mesh.bounds().extent().z})),
+                100 * relief::kFlatSlabThickness);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::size_t filled = 0;
   for (int l = 0; l < model.layerCount(); ++l)

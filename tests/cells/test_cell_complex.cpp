@@ -65,7 +65,7 @@ TEST(CellComplex, TrianglesInGridPlanesMakeBothSidesGrey) {
                      {{0, 0, 0}, {0.1f, 0, 0}, {0, 0.1f, 0}, {4, 4, 4}, {3.9f, 4, 4}, {4, 3.9f, 4}});
   m.triangles.push_back({base, base + 1, base + 2});
   m.triangles.push_back({base + 3, base + 4, base + 5});
-  const CellComplex c = CellComplex::build(m, {.gridSize = 4});
+  const CellComplex c = CellComplex::build(m, {.gridSize = 4, .offProjectionPlanes = false});
   EXPECT_DOUBLE_EQ(c.cellSizeWS(), 1.0);
   std::size_t grey = 0;
   for (int z = 0; z < 4; ++z)

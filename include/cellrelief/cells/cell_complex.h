@@ -2,8 +2,10 @@
 /// @file cell_complex.h
 /// The cubic cell complex of a mesh over an OpenVDB grid (Apaza & Andujar, 3.1).
 ///
-/// The mesh's bounding cube is split into N^3 cells: grey cells meet the surface (exactly: see
-/// triangle_box.h), white cells are outside, black cells inside. Only grey cells are active voxels
+/// The mesh's bounding cube (grown by half a cell and shifted where a triangle would lie in a plane
+/// that projection lines end in: ComplexOptions::offProjectionPlanes) is split into N^3 cells:
+/// grey cells meet the surface (exactly: see triangle_box.h), white cells are outside, black cells
+/// inside. Only grey cells are active voxels
 /// of the OpenVDB grid (their value indexes the GreyCell array); black cells are inactive voxels of
 /// value kBlack, pruned into tiles, and white is the background, so empty and solid space cost
 /// tiles only. Construction uses a dense byte per cell as scratch (N^3 bytes), freed afterwards.
@@ -54,6 +56,9 @@ inline constexpr std::int32_t kBlack = -2;
 struct ComplexOptions {
   int gridSize = 32;                             ///< N: cells per side of the bounding cube
   std::size_t memoryLimitBytes = std::size_t(4) << 30;  ///< refuse a build estimated above this
+  /// Place the lattice so that no plane holding a whole triangle is one where projection lines end
+  /// or run (see detail::placeGrid): what relief maps need. Off, the lattice is the bounding cube.
+  bool offProjectionPlanes = true;
 };
 
 struct GreyCell {

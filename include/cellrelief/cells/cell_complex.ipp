@@ -13,6 +13,102 @@ enum : std::uint8_t { kUnvisited = 0, kLabelWhite = 1, kLabelBlack = 2, kLabelGr
 inline std::string mib(std::size_t bytes) {
   return std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB";
 }
+
+/// Per axis, the distinct coordinates of the axis planes that hold a whole triangle (its three
+/// vertices share the coordinate), sorted.
+inline std::array<std::vector<double>, 3> axisPlanesOfTriangles(const TriangleMesh& mesh) {
+  std::array<std::vector<double>, 3> planes;
+  for (const Vec3u& t : mesh.triangles)
+    for (int a = 0; a < 3; ++a) {
+      const float c = mesh.positions[t[0]][a];
+      if (mesh.positions[t[1]][a] == c && mesh.positions[t[2]][a] == c) planes[a].push_back(c);
+    }
+  for (std::vector<double>& p : planes) {
+    std::sort(p.begin(), p.end());
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+  }
+  return planes;
+}
+
+/// How far a lattice coordinate u (in cells) lies from the planes where projections end or pass
+/// (the grid planes, u integer, and the planes through the cells' middles, u + 1/2 integer), as a
+/// fraction of a cell in [0, 1/4].
+inline double offProjectionPlanes(double u) {
+  const double half = 2.0 * u;
+  return 0.5 * std::abs(half - std::round(half));
+}
+
+/// The shift phi in [0, 1/2) (in cells) that keeps every u_i + phi farthest from the projection
+/// planes (period 1/2): the middle of the widest gap between the points -u_i, modulo 1/2.
+inline double shiftOffProjectionPlanes(const std::vector<double>& u) {
+  std::vector<double> q;  // -u_i in half cells, in [0, 1)
+  for (const double x : u) {
+    const double g = 2.0 * x;
+    q.push_back(std::fmod(1.0 - (g - std::floor(g)), 1.0));
+  }
+  std::sort(q.begin(), q.end());
+  double bestGap = -1, bestMid = 0.5;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const double next = i + 1 < q.size() ? q[i + 1] : q[0] + 1.0;
+    if (next - q[i] > bestGap) {
+      bestGap = next - q[i];
+      bestMid = q[i] + 0.5 * bestGap;
+    }
+  }
+  return 0.5 * (bestMid - std::floor(bestMid));
+}
+
+/// Where the lattice lies: its minimum corner and cell size.
+struct GridPlacement {
+  Vec3d minWS{0};
+  double cellSizeWS = 0;
+};
+
+/// The lattice of an N^3 complex over `box`, the bounds of the mesh. By default it is the bounding
+/// cube, centred. A surface lying in a plane where projection lines end or run (grid planes, and
+/// the planes of the centres, axes and planar projections, all at 0 or 1/2 of a cell) meets the
+/// lines only at their ends or along their length, so neither cell beside it would store it: a
+/// flat mesh, the middle plane of a symmetric model, axis-aligned faces a whole number of cells
+/// apart. When a whole triangle lies in such a plane, the cube grows by half a cell (h = longest
+/// extent / (N - 1/2)) and, per axis, the lattice is shifted so that every plane holding a triangle
+/// keeps as far from those planes as the others allow (a quarter cell for one plane), with the mesh
+/// as near the middle as that leaves. Planes on the cube's boundary need nothing: there the
+/// surface lies on an external face, at distance 0.
+inline GridPlacement placeGrid(const TriangleMesh& mesh, const Aabbd& box, int n) {
+  const Aabbd cube = box.boundingCube(0.0);
+  GridPlacement place{cube.min, cube.extent().x / n};
+  const Vec3d extent = box.extent();
+  const std::array<std::vector<double>, 3> planes = axisPlanesOfTriangles(mesh);
+  // A little more than the snapping step: a plane that close to a grid plane snaps onto it.
+  constexpr double kOnPlane = 16.0 / double(kCellUnits);
+  auto onProjectionPlane = [&](int a, double c) {
+    const double u = (c - place.minWS[a]) / place.cellSizeWS;
+    const bool onBoundary = std::abs(u) < kOnPlane || std::abs(u - n) < kOnPlane;
+    return !onBoundary && offProjectionPlanes(u) < kOnPlane;
+  };
+  bool shift = false;
+  for (int a = 0; a < 3; ++a)
+    for (const double c : planes[a]) shift = shift || onProjectionPlane(a, c);
+  if (shift) {
+    const double h = std::max({extent.x, extent.y, extent.z}) / (n - 0.5);
+    place.cellSizeWS = h;
+    for (int a = 0; a < 3; ++a) {
+      const double slack = n * h - extent[a];  // at least half a cell
+      double delta = 0.5 * slack;              // how far the lattice starts below the mesh
+      if (!planes[a].empty()) {
+        std::vector<double> u;
+        for (const double c : planes[a]) u.push_back((c - box.min[a]) / h);
+        const double phi = shiftOffProjectionPlanes(u);
+        // delta = phi h + k h / 2 for the whole k nearest the middle that keeps the mesh inside.
+        const double kMax = std::floor((slack / h - phi) * 2.0);
+        const double k = std::clamp(std::round((0.5 * slack / h - phi) * 2.0), 0.0, kMax);
+        delta = (phi + 0.5 * k) * h;
+      }
+      place.minWS[a] = box.min[a] - delta;
+    }
+  }
+  return place;
+}
 }  // namespace detail
 
 inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOptions& options) {
@@ -43,9 +139,13 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
 
   CellComplex c;
   c.mGridSize = n;
-  c.mBoundsWS = box.boundingCube(0.0);
-  const double side = c.mBoundsWS.extent().x;
-  c.mCellSizeWS = side / n;
+  const detail::GridPlacement place =
+      options.offProjectionPlanes
+          ? detail::placeGrid(mesh, box, n)
+          : detail::GridPlacement{box.boundingCube(0.0).min, box.boundingCube(0.0).extent().x / n};
+  c.mCellSizeWS = place.cellSizeWS;
+  const double side = n * c.mCellSizeWS;
+  c.mBoundsWS = Aabbd(place.minWS, place.minWS + Vec3d(side));
 
   // Snap to the fixed-point lattice of index space.
   const std::int64_t maxCoord = std::int64_t(n) * kCellUnits;

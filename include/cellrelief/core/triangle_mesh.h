@@ -37,6 +37,14 @@ struct TriangleMesh {
     for (const Vec3f& p : positions) box.extend(p);
     return box;
   }
+  /// Bounds of the vertices that triangles use (unreferenced ones, as in the bunny, do not count):
+  /// the extent of the surface.
+  Aabbf surfaceBounds() const {
+    Aabbf box;
+    for (const Vec3u& t : triangles)
+      for (int k = 0; k < 3; ++k) box.extend(positions[t[k]]);
+    return box;
+  }
 
   /// Throws Error(InvalidInput) naming the first problem: an attribute array of the wrong size, a
   /// triangle index out of range, a non-finite coordinate. `source` prefixes the message (a path).

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "cellrelief/metrics/geometric_error.h"
@@ -44,14 +45,19 @@ struct ErrorBoundResult {
   bool met = false;  ///< false: no candidate met the bound; the most accurate one tried is returned
 };
 
-inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const ErrorBoundOptions& o) {
+inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& input, const ErrorBoundOptions& o) {
   if (!(o.maxError > 0)) throw Error(ErrorKind::InvalidArgument, "the error bound must be positive");
-  const double diagonal = mesh.bounds().diagonal();
+  const double diagonal = input.bounds().diagonal();
+  // A flat mesh is modelled as a slab (flat_mesh.h); the error is still measured against the input.
+  const std::optional<TriangleMesh> slab = slabIfFlat(input);
+  const TriangleMesh& mesh = slab ? *slab : input;
   const std::size_t bytesPerSample = std::size_t(o.convert.distanceBits / 8) +
                                      (o.convert.normals != NormalFormat::None && mesh.hasNormals() ? 4 : 0) +
                                      (o.convert.colors && mesh.hasColors() ? 4 : 0);
   // One BVH and one complex per N serve every candidate (each N is tried with several T).
   const MeshBvh meshBvh(mesh);
+  std::optional<MeshBvh> ownInputBvh;
+  const MeshBvh& inputBvh = slab ? ownInputBvh.emplace(input) : meshBvh;
   std::map<int, cells::CellComplex> complexes;
   std::vector<ErrorBoundCandidate> candidates;
   for (const int n : o.gridSizes) {
@@ -84,7 +90,7 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& mesh, const Er
       continue;  // over the memory limit after all: skip it, keep what was measured
     }
     const TriangleMesh rebuilt = reconstruct(model);
-    const metrics::SurfaceError e = metrics::surfaceError(mesh, meshBvh, rebuilt, o.samplesPerSide);
+    const metrics::SurfaceError e = metrics::surfaceError(input, inputBvh, rebuilt, o.samplesPerSide);
     c.converted = true;
     c.bytes = model.byteSize();
     c.rms = e.rms() / diagonal;

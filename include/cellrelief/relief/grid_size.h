@@ -111,6 +111,9 @@ struct GridSizeTrial {
   double occlusionRatio = 0;
   std::size_t greyCells = 0;
   double seconds = 0;
+  /// The model's measured Hausdorff distance to the input over its diagonal, where the search is
+  /// by error (a flat mesh, convert.h); -1 where it is by occlusion.
+  double hausdorff = -1;
 };
 
 struct GridSizeChoice {
