@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+/// @file fuzz_target.cpp
+/// One libFuzzer target: CELLRELIEF_FUZZ_READER picks the reader (mesh, image, model) and
+/// CELLRELIEF_FUZZ_EXTENSION the file extension it is handed, so every target is this file built
+/// with two definitions (tests/fuzz/CMakeLists.txt).
+#include <cstddef>
+#include <cstdint>
+
+#include "fuzz_readers.h"
+
+#define CELLRELIEF_FUZZ_MESH 1
+#define CELLRELIEF_FUZZ_IMAGE 2
+#define CELLRELIEF_FUZZ_MODEL 3
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+#if CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_MESH
+  cellrelief::fuzz::readMeshBytes(CELLRELIEF_FUZZ_EXTENSION, data, size);
+#elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_IMAGE
+  cellrelief::fuzz::readImageBytes(CELLRELIEF_FUZZ_EXTENSION, data, size);
+#elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_MODEL
+  // Half the inputs as they are (the header and checksum checks), half with the checksum made
+  // right, so that mutations of the look-up table and maps reach the checks behind it.
+  cellrelief::fuzz::readModelBytes(data, size, size > 0 && (data[size - 1] & 1));
+#else
+#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE or _MODEL"
+#endif
+  return 0;
+}
