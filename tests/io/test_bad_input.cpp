@@ -163,7 +163,7 @@ TEST(BadMeshInput, NonFiniteCoordinates) {
 TEST(BadMeshInput, FaceIndicesOutOfRange) {
   test::TempDir dir;
   writeBytes(dir / "oor.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  expectMeshError(dir / "oor.obj", ErrorKind::InvalidInput, "refers to vertex 8 (0-based)");
+  expectMeshError(dir / "oor.obj", ErrorKind::InvalidInput, "line 4: face corner '9' refers to vertex 9");
   writeBytes(dir / "oor.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
   expectMeshError(dir / "oor.off", ErrorKind::InvalidInput, "refers to vertex 3");
   writeBytes(dir / "oor.ply", plyHeader("binary_little_endian", 3, 1) + binaryTriangle(0, 77));

@@ -25,6 +25,7 @@
 #include "cellrelief/core/image.h"
 #include "cellrelief/io/atomic_file.h"
 #include "cellrelief/io/detail/bmp_rle.h"
+#include "cellrelief/io/detail/image_checks.h"
 #include "cellrelief/io/paths.h"
 
 namespace cellrelief::io {
@@ -90,6 +91,11 @@ inline ImageFile readImage(const std::filesystem::path& path) {
 
   ImageFile result;
   result.format = detail::imageFormat(bytes);
+  const std::string problem = result.format == "jpeg"  ? detail::checkJpegTables(bytes)
+                              : result.format == "tga" ? detail::checkTgaSize(bytes)
+                              : result.format == "bmp" && !detail::isRleBmp(bytes) ? detail::checkBmpSize(bytes)
+                                                                                   : std::string();
+  if (!problem.empty()) throw Error(ErrorKind::FileFormat, path, problem);
   if (detail::isRleBmp(bytes)) {
     std::string problem;
     Image<std::uint8_t> im = detail::decodeRleBmp(bytes, problem);
@@ -109,6 +115,9 @@ inline ImageFile readImage(const std::filesystem::path& path) {
       h > ImageArray<std::uint8_t>::kMaxDimension)
     throw Error(ErrorKind::FileFormat, path,
                 "image size " + std::to_string(w) + "x" + std::to_string(h) + " is out of range");
+  if (result.format == "jpeg")
+    if (const std::string p = detail::checkJpegSize(std::uint64_t(w), std::uint64_t(h), bytes.size()); !p.empty())
+      throw Error(ErrorKind::FileFormat, path, p);
   auto copyInto = [&](auto* pixels, auto& image) {
     std::copy(pixels, pixels + std::size_t(w) * h * comp, image.levelData(0).begin());
   };

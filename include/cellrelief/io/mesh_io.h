@@ -140,6 +140,9 @@ inline TriangleMesh toTriangleMesh(PolygonSoup& soup, const MeshReadOptions& opt
   if (options.normals && soup.hasNormals) mesh.normals = std::move(soup.normals);
   if (options.colors && soup.hasColors) mesh.colors = std::move(soup.colors);
   const bool cornerUVs = options.uvs && soup.hasCornerUVs;
+  // Polygons after the last one that had UVs (an OBJ mixing "f 1/1 2/2 3/3" and "f 1 2 3") get
+  // (0, 0), as the importer pads those before it.
+  if (cornerUVs) soup.cornerUVs.resize(soup.corners.size(), Vec2f(0));
   const bool vertexUVs = options.uvs && !cornerUVs && soup.hasVertexUVs;
   mesh.sourcePolygons = soup.polygonCount();
   mesh.triangles.reserve(soup.corners.size());

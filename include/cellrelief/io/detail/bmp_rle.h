@@ -38,6 +38,15 @@ inline Image<std::uint8_t> decodeRleBmp(const std::vector<unsigned char>& b, std
     problem = "RLE BMP with unsupported size or bit depth";
     return {};
   }
+  // A run codes at most 255 pixels in 2 bytes; end-of-line and end-of-bitmap codes leave the rest
+  // as background, so more is possible, but not 256 times more: beyond that a small file that
+  // claims a huge image is a decompression bomb, refused before it costs the memory.
+  const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(std::abs(rawHeight));
+  if (pixels > 256 * std::uint64_t(b.size()) + 65536) {
+    problem = "RLE BMP of " + std::to_string(width) + "x" + std::to_string(std::abs(rawHeight)) +
+              " pixels in " + std::to_string(b.size()) + " bytes: more than run-length coding can hold";
+    return {};
+  }
   if (paletteSize == 0) paletteSize = 1u << bits;
   const std::size_t paletteOffset = 14 + headerSize;
   if (paletteOffset + 4ull * paletteSize > b.size() || dataOffset >= b.size()) {
