@@ -15,6 +15,7 @@ packages=(
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libglfw3-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
   xvfb xauth
+  clang-14 libfuzzer-14-dev
 )
 
 missing=()

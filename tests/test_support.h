@@ -4,6 +4,9 @@
 /// missing, temporary folders, and reading the figures of ../shared/data/SOURCES.md.
 #pragma once
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +105,43 @@ inline std::vector<SourceRow> readSources() {
     rows.push_back(row);
   }
   return rows;
+}
+
+/// What the command line printed and how it ended.
+struct CliResult {
+  int status = -1;     ///< exit status, or 128 + the signal that ended it
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs the `cellrelief` program (CELLRELIEF_CLI) with `args`, after an optional `prefix` (an
+/// environment assignment, a wrapper such as xvfb-run).
+inline CliResult runCli(const std::string& args, const std::string& prefix = "") {
+  CliResult r;
+  const std::string command = prefix + std::string(CELLRELIEF_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) r.output += buffer;
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+/// Text with every run of spaces and tabs made one space: reports align their columns with
+/// padding, and a test matches the words, not the padding.
+inline std::string squeezeSpaces(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const bool blank = c == ' ' || c == '\t';
+    if (blank && !out.empty() && out.back() == ' ') continue;
+    out += blank ? ' ' : c;
+  }
+  return out;
+}
+
+/// True when `words` appear in `text`, whatever the padding between them.
+inline bool hasWords(const std::string& text, const std::string& words) {
+  return squeezeSpaces(text).find(squeezeSpaces(words)) != std::string::npos;
 }
 
 }  // namespace cellrelief::test

@@ -119,8 +119,11 @@ struct LevelSetTracer {
   }
   float operator()(const Rayf& ray) const {
     Intersector& is = intersectors->local();
-    const openvdb::math::Ray<double> r(openvdb::Vec3d(ray.origin.x, ray.origin.y, ray.origin.z),
-                                       openvdb::Vec3d(ray.direction.x, ray.direction.y, ray.direction.z));
+    // OpenVDB asserts (in a Debug build) that the direction is unit length in double: one that is
+    // unit length in float is not, so it is normalized again here.
+    const openvdb::Vec3d direction =
+        openvdb::Vec3d(ray.direction.x, ray.direction.y, ray.direction.z).unitSafe();
+    const openvdb::math::Ray<double> r(openvdb::Vec3d(ray.origin.x, ray.origin.y, ray.origin.z), direction);
     openvdb::Vec3d world;
     // intersectsWS(ray, time) reads the time before the search in OpenVDB 10: use the position.
     if (!is.intersectsWS(r, world)) return INFINITY;

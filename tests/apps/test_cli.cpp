@@ -13,31 +13,18 @@
 namespace cellrelief {
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
+using Result = test::CliResult;
 
-Result run(const std::string& args, const std::string& prefix = "") {
-  Result r;
-  const std::string command = prefix + std::string(CELLRELIEF_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe)) r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
+Result run(const std::string& args, const std::string& prefix = "") { return test::runCli(args, prefix); }
 
 TEST(Cli, VersionAndHelpAtEveryLevel) {
   const Result version = run("--version");
   EXPECT_EQ(version.status, 0);
-  EXPECT_NE(version.output.find("cellrelief 0."), std::string::npos) << version.output;
+  EXPECT_TRUE(test::hasWords(version.output, "cellrelief 0.")) << version.output;
   for (const char* level : {"", "info ", "demo "}) {
     const Result help = run(std::string(level) + "--help");
     EXPECT_EQ(help.status, 0) << level;
-    EXPECT_NE(help.output.find("Usage"), std::string::npos) << help.output;
+    EXPECT_TRUE(test::hasWords(help.output, "Usage")) << help.output;
   }
   EXPECT_NE(run("").status, 0);  // a subcommand is required
   const Result unknown = run("frobnicate");
@@ -58,8 +45,8 @@ TEST(Cli, BadInputGivesAClearErrorAndNonZeroExit) {
   for (const auto& [file, words] : cases) {
     const Result r = run("info " + (dir / file).string());
     EXPECT_EQ(r.status, 1) << file << ": " << r.output;
-    EXPECT_NE(r.output.find((dir / file).string()), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, (dir / file).string())) << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << r.output;
   }
 }
 
@@ -68,14 +55,14 @@ TEST(Cli, InfoReportsTopology) {
   CELLRELIEF_REQUIRE_FILE(bunny);
   const Result r = run("info " + bunny.string());
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("5 loops"), std::string::npos) << r.output;  // the bunny's five holes
-  EXPECT_NE(r.output.find("1113 unreferenced"), std::string::npos) << r.output;
+  EXPECT_TRUE(test::hasWords(r.output, "5 loops")) << r.output;  // the bunny's five holes
+  EXPECT_TRUE(test::hasWords(r.output, "1113 unreferenced")) << r.output;
   const auto image = test::dataDir() / "heightmaps/sponza/lion_bump.png";
   CELLRELIEF_REQUIRE_FILE(image);
   const Result i = run("info " + image.string());
   ASSERT_EQ(i.status, 0) << i.output;
-  EXPECT_NE(i.output.find("1024 x 1024"), std::string::npos) << i.output;
-  EXPECT_NE(i.output.find("bit depth  8"), std::string::npos) << i.output;
+  EXPECT_TRUE(test::hasWords(i.output, "1024 x 1024")) << i.output;
+  EXPECT_TRUE(test::hasWords(i.output, "bit depth  8")) << i.output;
 }
 
 TEST(Cli, DemoWritesTheBuiltInModel) {
@@ -85,15 +72,15 @@ TEST(Cli, DemoWritesTheBuiltInModel) {
   for (const char* file : {"displaced_torus.ply", "displaced_torus.png", "displaced_torus.crm",
                            "displaced_torus_relief.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / file)) << file;
-  EXPECT_NE(r.output.find("5120 (from"), std::string::npos) << r.output;  // 64 x 40 x 2
-  EXPECT_NE(r.output.find("genus                 1"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("RMS error"), std::string::npos) << r.output;
+  EXPECT_TRUE(test::hasWords(r.output, "5120 (from")) << r.output;  // 64 x 40 x 2
+  EXPECT_TRUE(test::hasWords(r.output, "genus                 1")) << r.output;
+  EXPECT_TRUE(test::hasWords(r.output, "RMS error")) << r.output;
   const Result own = run("demo " + (dir / "out/displaced_torus.ply").string() + " -o " +
                          (dir / "own").string());
   EXPECT_EQ(own.status, 0) << own.output;
   const Result bad = run("demo " + (dir / "absent.ply").string() + " -o " + (dir / "x").string());
   EXPECT_EQ(bad.status, 1);
-  EXPECT_NE(bad.output.find("no such file"), std::string::npos) << bad.output;
+  EXPECT_TRUE(test::hasWords(bad.output, "no such file")) << bad.output;
 }
 
 TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
@@ -104,17 +91,17 @@ TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
                        " --preview " + (dir / "cells.png").string());
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* words : {"N = 16", "grey 531", "base cases", "3b", "axial", "occlusion", "time"})
-    EXPECT_NE(r.output.find(words), std::string::npos) << words << " not in " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "cells.ply"));
   EXPECT_TRUE(std::filesystem::exists(dir / "cells.png"));
   const Result automatic = run("cells " + mesh.string() + " --max-grid 32");
   ASSERT_EQ(automatic.status, 0) << automatic.output;
-  EXPECT_NE(automatic.output.find("N =    1"), std::string::npos) << automatic.output;
-  EXPECT_NE(automatic.output.find("chosen N"), std::string::npos) << automatic.output;
+  EXPECT_TRUE(test::hasWords(automatic.output, "N =    1")) << automatic.output;
+  EXPECT_TRUE(test::hasWords(automatic.output, "chosen N")) << automatic.output;
   for (const std::string bad : {"--grid 0", "--grid 5000", "--grid many"}) {
     const Result e = run("cells " + mesh.string() + " " + bad);
     EXPECT_NE(e.status, 0) << bad;
-    EXPECT_NE(e.output.find("error"), std::string::npos) << e.output;
+    EXPECT_TRUE(test::hasWords(e.output, "error")) << e.output;
   }
 }
 
@@ -131,14 +118,15 @@ TEST(Cli, FlatMeshesAndSurfacesInGridPlanesConvert) {
     const auto out = dir / (std::string(name) + ".crm");
     const Result r = run("convert " + mesh.string() + " -o " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_EQ(r.output.find("inf"), std::string::npos) << r.output;
-    EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+    EXPECT_FALSE(test::hasWords(r.output, "inf")) << r.output;
+    EXPECT_FALSE(test::hasWords(r.output, "nan")) << r.output;
     const bool flat = std::string(name).starts_with("degtri");
-    EXPECT_EQ(r.output.find("flat mesh     modelled as a closed slab") != std::string::npos, flat) << r.output;
+    EXPECT_EQ(test::hasWords(r.output, "flat mesh modelled as a closed slab"), flat) << r.output;
     // The reconstruction is within 1% of the diagonal of the input (RMS), and the file reads back.
-    const std::size_t at = r.output.find("error         rms ");
+    const std::string words = test::squeezeSpaces(r.output);
+    const std::size_t at = words.find("error rms ");
     ASSERT_NE(at, std::string::npos) << r.output;
-    EXPECT_LT(std::stod(r.output.substr(at + 18)), 1.0) << r.output;
+    EXPECT_LT(std::stod(words.substr(at + 10)), 1.0) << r.output;
     EXPECT_EQ(run("render " + out.string() + " -o " + (dir / (std::string(name) + ".png")).string() +
                   " --backend cpu --size 64x64").status, 0);
   }
@@ -148,8 +136,8 @@ TEST(Cli, FlatMeshesAndSurfacesInGridPlanesConvert) {
   const auto out = dir / "line.crm";
   const Result r = run("convert " + line.string() + " -o " + out.string());
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_NE(r.output.find(line.string()), std::string::npos) << r.output;
-  EXPECT_EQ(r.output.find("inf%"), std::string::npos) << r.output;
+  EXPECT_TRUE(test::hasWords(r.output, line.string())) << r.output;
+  EXPECT_FALSE(test::hasWords(r.output, "inf%")) << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
@@ -164,7 +152,7 @@ TEST(Cli, ConvertAndReconstruct) {
                        (dir / "atlas").string());
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* words : {"N = 8", "layers of 17 x 17", "colors", "bytes", "time", "error         rms"})
-    EXPECT_NE(r.output.find(words), std::string::npos) << words << " not in " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "atlas/color.png"));
   const Result back = run("reconstruct " + (dir / "spot.crm").string() + " -o " +
                           (dir / "spot.ply").string() + " --lod 1");
@@ -173,7 +161,7 @@ TEST(Cli, ConvertAndReconstruct) {
   const Result bounded = run("convert " + mesh.string() + " -o " + (dir / "b.crm").string() +
                              " --max-error 0.002 --no-error");
   ASSERT_EQ(bounded.status, 0) << bounded.output;
-  EXPECT_NE(bounded.output.find("meets the bound"), std::string::npos) << bounded.output;
+  EXPECT_TRUE(test::hasWords(bounded.output, "meets the bound")) << bounded.output;
   // Bad input: a clear error, non-zero exit, no output file.
   test::writeBytes(dir / "broken.crm", test::readBytes(dir / "spot.crm").substr(0, 100));
   const std::pair<std::string, std::string> cases[] = {
@@ -184,7 +172,7 @@ TEST(Cli, ConvertAndReconstruct) {
   for (const auto& [args, words] : cases) {
     const Result e = run(args);
     EXPECT_NE(e.status, 0) << args;
-    EXPECT_NE(e.output.find(words), std::string::npos) << e.output;
+    EXPECT_TRUE(test::hasWords(e.output, words)) << e.output;
   }
   for (const char* name : {"x.ply", "y.ply", "z.crm", "w.crm"}) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
 }
@@ -197,7 +185,7 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
                         (dir / "d.png").string() + " --normals " + (dir / "n.png").string() +
                         " --camera 200,-10,35 --backend cpu");
   ASSERT_EQ(ok.status, 0) << ok.output;
-  EXPECT_NE(ok.output.find("rendered      96x64"), std::string::npos) << ok.output;
+  EXPECT_TRUE(test::hasWords(ok.output, "rendered      96x64")) << ok.output;
   for (const char* name : {"c.png", "d.png", "n.png"}) EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
   const std::pair<std::string, std::string> cases[] = {
       {"render absent.crm -o x.png", "no such file"},
@@ -213,7 +201,7 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
   for (const auto& [args, words] : cases) {
     const Result r = run(args);
     EXPECT_EQ(r.status, 1) << args << ": " << r.output;
-    EXPECT_NE(r.output.find(words), std::string::npos) << args << ": " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << args << ": " << r.output;
   }
   EXPECT_FALSE(std::filesystem::exists("x.png"));
 }
@@ -233,6 +221,15 @@ int differingPixels(const std::filesystem::path& a, const std::filesystem::path&
   return count;
 }
 
+// Under AddressSanitizer, runs that load the GPU drivers do not check for leaks: Mesa's llvmpipe
+// and lavapipe leak 112 bytes in a module they unload at exit, which LeakSanitizer can neither name
+// nor suppress. Every other check of the sanitizers stays on.
+#if defined(__SANITIZE_ADDRESS__)
+const std::string kDrivers = "ASAN_OPTIONS=detect_leaks=0 ";
+#else
+const std::string kDrivers;
+#endif
+
 TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
   const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
   CELLRELIEF_REQUIRE_FILE(spot);
@@ -241,21 +238,22 @@ TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
   ASSERT_EQ(cpu.status, 0) << cpu.output;
   for (const auto& [backend, described] : {std::pair{"opengl", "on OpenGL"}, std::pair{"vulkan", "on Vulkan"}}) {
     const std::string png = (dir / (std::string(backend) + ".png")).string();
-    const Result r = run("render " + spot.string() + " -o " + png + " --size 96x64 --backend " + backend);
+    const Result r = run("render " + spot.string() + " -o " + png + " --size 96x64 --backend " + backend, kDrivers);
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find(described), std::string::npos) << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, described)) << r.output;
     EXPECT_EQ(differingPixels(png, dir / "cpu.png"), 0) << backend;
   }
-  const Result cmp = run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 -o " + (dir / "cmp").string());
+  const Result cmp =
+      run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 -o " + (dir / "cmp").string(), kDrivers);
   ASSERT_EQ(cmp.status, 0) << cmp.output;
   for (const char* words : {"cpu ", "opengl ", "vulkan ", "Mrays/s", "mask"})
-    EXPECT_NE(cmp.output.find(words), std::string::npos) << words;
+    EXPECT_TRUE(test::hasWords(cmp.output, words)) << words;
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "side_by_side.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_opengl.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_vulkan.png"));
   const Result bad = run("compare-backends absent.crm -o " + (dir / "bad").string());
   EXPECT_EQ(bad.status, 1) << bad.output;
-  EXPECT_NE(bad.output.find("absent.crm"), std::string::npos) << bad.output;
+  EXPECT_TRUE(test::hasWords(bad.output, "absent.crm")) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
 }
 
@@ -276,10 +274,10 @@ TEST(Cli, ViewerUnderXvfbShowsTheHeadlessRender) {
     const std::string headless = (dir / (std::string(backend) + "_headless.png")).string();
     const std::string common = " --size 160x120 --camera 150,15 --backend " + std::string(backend);
     const Result view = run("view " + (dir / "spot.crm").string() + common + " --frames 3 --screenshot " + shot,
-                            "xvfb-run -a ");
+                            kDrivers + "xvfb-run -a ");
     ASSERT_EQ(view.status, 0) << view.output;
-    EXPECT_NE(view.output.find("frame 3:"), std::string::npos) << view.output;
-    const Result render = run("render " + (dir / "spot.crm").string() + common + " -o " + headless);
+    EXPECT_TRUE(test::hasWords(view.output, "frame 3:")) << view.output;
+    const Result render = run("render " + (dir / "spot.crm").string() + common + " -o " + headless, kDrivers);
     ASSERT_EQ(render.status, 0) << render.output;
     EXPECT_EQ(differingPixels(shot, headless), 0) << backend;
   }

@@ -85,20 +85,9 @@ TEST(IndirectionStress, BadParametersAreClearErrors) {
 
 // ---- the command line ---------------------------------------------------------------------------
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
+using Result = test::CliResult;
 
-/// Runs the program with its output in a file of `dir` (read back, then removed).
-Result run(const std::string& args, const test::TempDir& dir) {
-  const auto log = dir.path().parent_path() / (dir.path().filename().string() + ".log");
-  const int status = std::system((std::string(CELLRELIEF_CLI) + " " + args + " > " +
-                                  log.string() + " 2>&1").c_str());
-  Result r{WIFEXITED(status) ? WEXITSTATUS(status) : 128, test::readBytes(log)};
-  std::filesystem::remove(log);
-  return r;
-}
+Result run(const std::string& args, const test::TempDir&) { return test::runCli(args); }
 
 TEST(IndirectionCli, BadInputExitsOneAndLeavesNoOutput) {
   test::TempDir dir;
@@ -121,7 +110,7 @@ TEST(IndirectionCli, BadInputExitsOneAndLeavesNoOutput) {
     const auto out = dir / "out.png";
     const Result r = run("indirect " + args + " -o " + out.string(), dir);
     EXPECT_EQ(r.status, 1) << args << ": " << r.output;
-    EXPECT_NE(r.output.find(words), std::string::npos) << args << ": " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << args << ": " << r.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << args;
     for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
       EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();

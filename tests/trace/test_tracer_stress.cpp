@@ -44,10 +44,9 @@ TEST(ReliefTracerStress, DegenerateAndNonFiniteRaysMissCleanly) {
         Rayf(Vec3f(0, 0, -3), Vec3f(0, 0, inf)),         // infinite direction
         Rayf(Vec3f(0, 0, -3), Vec3f(0, 0, 1), 5, 4),     // empty interval
         Rayf(Vec3f(0, 0, -3), Vec3f(0, 0, 1), nan, nan)};
-    for (const Rayf& ray : rays) expectOnModelOrMiss(tracer, tracer.intersect(ray));
-    EXPECT_FALSE(tracer.intersect(rays[0]).valid());
-    EXPECT_FALSE(tracer.intersect(rays[1]).valid());
-    EXPECT_FALSE(tracer.intersect(rays[5]).valid());
+    // None of them names a point of the model's surface: every one misses.
+    for (std::size_t i = 0; i < std::size(rays); ++i)
+      EXPECT_FALSE(tracer.intersect(rays[i]).valid()) << "ray " << i << " skip " << skip;
   }
 }
 

@@ -91,11 +91,11 @@ inline ImageFile readImage(const std::filesystem::path& path) {
 
   ImageFile result;
   result.format = detail::imageFormat(bytes);
-  const std::string problem = result.format == "jpeg"  ? detail::checkJpegTables(bytes)
+  const std::string structure = result.format == "jpeg"  ? detail::checkJpegTables(bytes)
                               : result.format == "tga" ? detail::checkTgaSize(bytes)
                               : result.format == "bmp" && !detail::isRleBmp(bytes) ? detail::checkBmpSize(bytes)
                                                                                    : std::string();
-  if (!problem.empty()) throw Error(ErrorKind::FileFormat, path, problem);
+  if (!structure.empty()) throw Error(ErrorKind::FileFormat, path, structure);
   if (detail::isRleBmp(bytes)) {
     std::string problem;
     Image<std::uint8_t> im = detail::decodeRleBmp(bytes, problem);

@@ -91,6 +91,9 @@ struct CellProjection {
   Vec3<T> unproject(int face, const Vec2<T>& uv, T distance) const {
     return visit([&](const auto& proj) { return proj.unproject(face, uv, distance); });
   }
+  Vec3<T> lineEnd(int face, const Vec3<T>& onFace) const {
+    return visit([&](const auto& proj) { return proj.lineEnd(face, onFace); });
+  }
 };
 
 /// The projection for a configuration. `centroid` (unit-cell coordinates) is used only with

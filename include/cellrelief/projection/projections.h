@@ -89,6 +89,7 @@ concept ProjectionPolicy = Real<typename P::Scalar> &&
              typename P::Scalar d) {
   { p.project(x) } -> std::same_as<FacePoint<typename P::Scalar>>;
   { p.unproject(f, uv, d) } -> std::same_as<Vec3<typename P::Scalar>>;
+  { p.lineEnd(f, x) } -> std::same_as<Vec3<typename P::Scalar>>;
   { p.domainFaces() } -> std::convertible_to<std::uint8_t>;
 };
 
@@ -129,6 +130,8 @@ struct ParallelProjection {
   Vec3<T> unproject(int f, const Vec2<T>& uv, T distance) const {
     return facePoint(f, uv) - distance * faceNormalT<T>(f);
   }
+  /// The opposite face.
+  Vec3<T> lineEnd(int f, const Vec3<T>& onFace) const { return onFace - faceNormalT<T>(f); }
 };
 
 /// Along an axis onto the nearer of its two faces: the plane through the centre splits the cell.
@@ -146,6 +149,8 @@ struct PlanarProjection {
   Vec3<T> unproject(int f, const Vec2<T>& uv, T distance) const {
     return facePoint(f, uv) - distance * faceNormalT<T>(f);
   }
+  /// The plane through the centre.
+  Vec3<T> lineEnd(int f, const Vec3<T>& onFace) const { return onFace - T(0.5) * faceNormalT<T>(f); }
 };
 
 /// From a centre of projection through the point onto the face where the ray leaves the cell.
@@ -168,6 +173,8 @@ struct PerspectiveProjection {
     const Vec3<T> onFace = facePoint(f, uv);
     return onFace + distance * glm::normalize(centre - onFace);
   }
+  /// The centre.
+  Vec3<T> lineEnd(int, const Vec3<T>&) const { return centre; }
 };
 
 /// From an axis line, perpendicular to it, onto the face where the ray leaves the cell. Straight
@@ -200,6 +207,8 @@ struct AxialProjection {
     const Vec3<T> onFace = facePoint(f, uv);
     return onFace + distance * glm::normalize(foot(onFace) - onFace);
   }
+  /// The foot of the perpendicular on the axis line.
+  Vec3<T> lineEnd(int, const Vec3<T>& onFace) const { return foot(onFace); }
 };
 
 static_assert(ProjectionPolicy<ParallelProjection<float>>);

@@ -60,43 +60,44 @@ struct ConvertReport {
 inline int defaultTexels(int n) { return std::clamp(512 / std::max(1, n), 8, 64) + 1; }
 
 namespace detail {
-/// Where a face sample's projection line goes: from P' to `end` (unit-cell coordinates).
-template <class Proj>
-Vec3d projectionLineEnd(const Proj& proj, int face, const Vec3d& onFace) {
-  using projection::ProjectionType;
-  switch (proj.type) {
-    case ProjectionType::Parallel: return onFace - Vec3d(cells::faceNormal(face));
-    case ProjectionType::Planar: return onFace - 0.5 * Vec3d(cells::faceNormal(face));
-    case ProjectionType::Perspective: return proj.point;
-    case ProjectionType::Axial: {
-      Vec3d foot = proj.point;
-      foot[proj.faceOrAxis] = onFace[proj.faceOrAxis];
-      return foot;
-    }
-  }
-  return proj.point;
-}
-}  // namespace detail
 
-/// Samples the maps of a relief model on a cell complex of `mesh` and a ray query of it that the
-/// caller already has (options.gridSize is ignored: the complex fixes N). Reports the sampling
-/// time only; convert() below adds the grid.
-inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& complex,
-                           const MeshRayQuery& query, const ConvertOptions& options,
-                           ConvertReport* report = nullptr) {
-  const auto start = std::chrono::steady_clock::now();
+/// The signals a conversion samples: only those the mesh has (and the options allow).
+struct Signals {
+  bool normals = false, colors = false, textured = false;
+  std::vector<Vec3f> vertexNormals;  ///< the mesh's, or computed when normals are forced
+};
+
+inline Signals signalsOf(const TriangleMesh& mesh, const ConvertOptions& options) {
+  Signals s;
+  s.normals = options.normals != NormalFormat::None && (mesh.hasNormals() || options.forceNormals);
+  s.textured = options.colors && options.texture && mesh.hasUVs();
+  s.colors = options.colors && (mesh.hasColors() || s.textured);
+  if (s.normals) s.vertexNormals = mesh.hasNormals() ? mesh.normals : computeVertexNormals(mesh);
+  return s;
+}
+
+/// One grey cell while sampling: its projection and, per domain face (in face order), T x T
+/// samples of distance (NaN = empty), normal and color.
+struct CellSamples {
+  projection::CellProjection<double> proj;
+  std::vector<float> distance;
+  std::vector<Vec3f> normal;
+  std::vector<Color8> color;
+  std::uint8_t present = 0;   ///< domain faces with at least one sample
+  bool centreInside = false;  ///< interior cells only
+};
+
+/// Refuses bad options and conversions over the memory limit; returns T.
+inline int checkConversion(const cells::CellComplex& complex, const ConvertOptions& options) {
   if (options.texels != 0 && (options.texels < 2 || options.texels > 1025))
     throw Error(ErrorKind::InvalidArgument,
                 "texels T = " + std::to_string(options.texels) + " is out of range (2 to 1025)");
   if (options.distanceBits != 16 && options.distanceBits != 8)
     throw Error(ErrorKind::InvalidArgument, "distance bits must be 8 or 16");
-  ConvertReport local;
-  ConvertReport& rep = report ? *report : local;
   const int n = complex.gridSize();
   const int T = options.texels != 0 ? options.texels : defaultTexels(n);
-  const auto grey = complex.greyCells();
   std::size_t maxLayers = 0;
-  for (const cells::GreyCell& g : grey) maxLayers += std::popcount(unsigned(g.domainFaces()));
+  for (const cells::GreyCell& g : complex.greyCells()) maxLayers += std::popcount(unsigned(g.domainFaces()));
   // Per sample while sampling: a float distance, a Vec3f normal, a Color8; then the quantized
   // maps (2 + 4 + 4 bytes at most) exist at the same time.
   const std::size_t sampleBytes = maxLayers * std::size_t(T) * T * (4 + 12 + 4 + 2 + 4 + 4);
@@ -104,122 +105,108 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
     throw Error(ErrorKind::ResourceLimit,
                 "N = " + std::to_string(n) + ", T = " + std::to_string(T) + " needs about " +
                     std::to_string(sampleBytes >> 20) + " MiB of maps before quantization, over the limit");
+  return T;
+}
 
-  // Signals the mesh has: nothing else is sampled or stored.
-  const bool wantNormals =
-      options.normals != NormalFormat::None && (mesh.hasNormals() || options.forceNormals);
-  const bool textured = options.colors && options.texture && mesh.hasUVs();
-  const bool wantColors = options.colors && (mesh.hasColors() || textured);
-  const std::vector<Vec3f> vertexNormals =
-      wantNormals ? (mesh.hasNormals() ? mesh.normals : computeVertexNormals(mesh)) : std::vector<Vec3f>{};
+/// The normal and color of the surface at a hit, interpolated from the hit triangle's corners.
+inline void sampleSignals(const TriangleMesh& mesh, const Signals& signals, const ConvertOptions& options,
+                          const Hitd& hit, Vec3f* normal, Color8* color) {
+  const Vec3u& tri = mesh.triangles[hit.primId];
+  const double w0 = 1.0 - hit.u - hit.v;
+  if (signals.normals) {
+    const Vec3f nrm = float(w0) * signals.vertexNormals[tri[0]] + float(hit.u) * signals.vertexNormals[tri[1]] +
+                      float(hit.v) * signals.vertexNormals[tri[2]];
+    const float len = glm::length(nrm);
+    *normal = len > 0 ? nrm / len : Vec3f(glm::normalize(hit.geometricNormal));
+  }
+  if (!signals.colors) return;
+  if (signals.textured) {
+    const std::size_t c = 3 * std::size_t(hit.primId);
+    const Vec2f uv = float(w0) * mesh.uvs[c] + float(hit.u) * mesh.uvs[c + 1] + float(hit.v) * mesh.uvs[c + 2];
+    // OBJ's v runs upwards; image rows run downwards.
+    const Vec4f t = options.texture->sample(Vec2f(uv.x, 1.0f - uv.y), {Filter::Bilinear, Wrap::Repeat});
+    *color = Color8(glm::round(glm::clamp(t, 0.0f, 1.0f) * 255.0f));
+  } else {
+    const Vec4f c = float(w0) * Vec4f(mesh.colors[tri[0]]) + float(hit.u) * Vec4f(mesh.colors[tri[1]]) +
+                    float(hit.v) * Vec4f(mesh.colors[tri[2]]);
+    *color = Color8(glm::round(c));
+  }
+}
 
-  // Per cell: its projection and, per domain face, T x T samples (distance, normal, color).
-  struct CellSamples {
-    projection::CellProjection<double> proj;
-    std::vector<float> distance;  // faces x T x T, NaN = empty (domain faces in face order)
-    std::vector<Vec3f> normal;
-    std::vector<Color8> color;
-    std::uint8_t present = 0;
-    bool centreInside = false;  // interior cells only
-  };
-  std::vector<CellSamples> samples(grey.size());
-  std::atomic<std::size_t> done{0};
-  std::mutex progressMutex;
-  double reported = 0;
+/// Samples one grey cell: chooses its projection, then casts the projection line of each sample
+/// of each domain face against the mesh and keeps the nearest hit.
+inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex& complex,
+                              const MeshRayQuery& query, const ConvertOptions& options,
+                              const Signals& signals, const cells::GreyCell& cell, int T) {
+  CellSamples out;
   const double h = complex.cellSizeWS();
-  parallelFor(0, grey.size(), [&](std::size_t ci) {
-    const cells::GreyCell& cell = grey[ci];
-    CellSamples& out = samples[ci];
-    std::optional<Vec3d> centroid;
-    if (options.centre == projection::CentreOfProjection::SurfaceCentroid) {
-      std::vector<SurfaceSample> surf;
-      sampleCellSurface(complex, mesh.triangles, cell, 256.0, 4096, surf);
-      centroid = sampleCentroid(surf);
-    }
-    out.proj = projection::chooseProjection<double>(cell.configuration, options.centre, centroid);
-    if (cell.configuration == 0)
-      out.centreInside = query.contains(complex.cellMinWS(cell.ijk) + h * out.proj.point);
-    const int faces = std::popcount(unsigned(cell.domainFaces()));
-    out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
-    if (wantNormals) out.normal.assign(out.distance.size(), Vec3f(0));
-    if (wantColors) out.color.assign(out.distance.size(), Color8(0));
-    const Vec3d cellMin = complex.cellMinWS(cell.ijk);
-    int slot = 0;
-    for (int f = 0; f < cells::kFaceCount; ++f) {
-      if (!(cell.domainFaces() & (1u << f))) continue;
-      bool any = false;
-      for (int b = 0; b < T; ++b)
-        for (int a = 0; a < T; ++a) {
-          const Vec2d uv(double(a) / (T - 1), double(b) / (T - 1));
-          const Vec3d onFace = projection::facePoint(f, uv);
-          const Vec3d end = detail::projectionLineEnd(out.proj, f, onFace);
-          const Rayd ray(cellMin + h * onFace, h * (end - onFace), 0.0, 1.0);
-          const Hitd hit = query.bvh.closestHit(ray);
-          if (!hit.valid()) continue;
-          const std::size_t k = (std::size_t(slot) * T + b) * T + a;
-          out.distance[k] = float(hit.t * glm::length(end - onFace));
-          any = true;
-          const Vec3u& tri = mesh.triangles[hit.primId];
-          const double w0 = 1.0 - hit.u - hit.v;
-          if (wantNormals) {
-            Vec3f nrm = float(w0) * vertexNormals[tri[0]] + float(hit.u) * vertexNormals[tri[1]] +
-                        float(hit.v) * vertexNormals[tri[2]];
-            const float len = glm::length(nrm);
-            out.normal[k] = len > 0 ? nrm / len : Vec3f(glm::normalize(hit.geometricNormal));
-          }
-          if (wantColors) {
-            if (textured) {
-              const std::size_t c = 3 * std::size_t(hit.primId);
-              const Vec2f uvTex = float(w0) * mesh.uvs[c] + float(hit.u) * mesh.uvs[c + 1] +
-                                  float(hit.v) * mesh.uvs[c + 2];
-              // OBJ's v runs upwards; image rows run downwards.
-              const Vec4f t = options.texture->sample(Vec2f(uvTex.x, 1.0f - uvTex.y),
-                                                      {Filter::Bilinear, Wrap::Repeat});
-              out.color[k] = Color8(glm::round(glm::clamp(t, 0.0f, 1.0f) * 255.0f));
-            } else {
-              const Vec4f c = float(w0) * Vec4f(mesh.colors[tri[0]]) +
-                              float(hit.u) * Vec4f(mesh.colors[tri[1]]) +
-                              float(hit.v) * Vec4f(mesh.colors[tri[2]]);
-              out.color[k] = Color8(glm::round(c));
-            }
-          }
-        }
-      if (any) out.present |= std::uint8_t(1u << f);
-      ++slot;
-    }
-    const std::size_t finished = ++done;
-    if (options.progress && finished % std::max<std::size_t>(1, grey.size() / 100) == 0) {
-      std::unique_lock lock(progressMutex, std::try_to_lock);
-      const double fraction = double(finished) / double(grey.size());
-      if (lock.owns_lock() && fraction > reported) options.progress(reported = fraction);
-    }
-  }, 4);
+  std::optional<Vec3d> centroid;
+  if (options.centre == projection::CentreOfProjection::SurfaceCentroid) {
+    std::vector<SurfaceSample> surf;
+    sampleCellSurface(complex, mesh.triangles, cell, 256.0, 4096, surf);
+    centroid = sampleCentroid(surf);
+  }
+  out.proj = projection::chooseProjection<double>(cell.configuration, options.centre, centroid);
+  if (cell.configuration == 0)
+    out.centreInside = query.contains(complex.cellMinWS(cell.ijk) + h * out.proj.point);
+  const int faces = std::popcount(unsigned(cell.domainFaces()));
+  out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
+  if (signals.normals) out.normal.assign(out.distance.size(), Vec3f(0));
+  if (signals.colors) out.color.assign(out.distance.size(), Color8(0));
+  const Vec3d cellMin = complex.cellMinWS(cell.ijk);
+  int slot = 0;
+  for (int f = 0; f < cells::kFaceCount; ++f) {
+    if (!(cell.domainFaces() & (1u << f))) continue;
+    bool any = false;
+    for (int b = 0; b < T; ++b)
+      for (int a = 0; a < T; ++a) {
+        const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
+        const Vec3d end = out.proj.lineEnd(f, onFace);
+        const Hitd hit = query.bvh.closestHit(Rayd(cellMin + h * onFace, h * (end - onFace), 0.0, 1.0));
+        if (!hit.valid()) continue;
+        const std::size_t k = (std::size_t(slot) * T + b) * T + a;
+        out.distance[k] = float(hit.t * glm::length(end - onFace));
+        any = true;
+        sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
+                      signals.colors ? &out.color[k] : nullptr);
+      }
+    if (any) out.present |= std::uint8_t(1u << f);
+    ++slot;
+  }
+  return out;
+}
 
-  // Layers for present faces only; the distance range for quantization.
+/// The model's header and look-up table: one record per grey cell, layers for present faces only
+/// (in cell and face order), and the largest distance, which sets the quantization step.
+inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::vector<CellSamples>& samples,
+                                const ConvertOptions& options, const Signals& signals, int T,
+                                ConvertReport& rep) {
+  const auto grey = complex.greyCells();
   ReliefModel model;
-  model.gridSize = n;
+  model.gridSize = complex.gridSize();
   model.originWS = complex.boundsWS().min;
-  model.cellSizeWS = h;
+  model.cellSizeWS = complex.cellSizeWS();
   model.texels = T;
   model.distanceBits = options.distanceBits;
-  model.normalFormat = wantNormals ? options.normals : NormalFormat::None;
-  model.colorFormat = wantColors ? ColorFormat::Rgba8 : ColorFormat::None;
+  model.normalFormat = signals.normals ? options.normals : NormalFormat::None;
+  model.colorFormat = signals.colors ? ColorFormat::Rgba8 : ColorFormat::None;
   std::uint32_t layers = 0;
   float maxDistance = 0;
   model.cells.resize(grey.size());
   for (std::size_t ci = 0; ci < grey.size(); ++ci) {
     const cells::GreyCell& g = grey[ci];
+    const CellSamples& s = samples[ci];
     CellRecord& r = model.cells[ci];
-    r.packedIjk = CellRecord::packIjk(g.ijk) | (samples[ci].centreInside ? CellRecord::kCentreInside : 0u);
+    r.packedIjk = CellRecord::packIjk(g.ijk) | (s.centreInside ? CellRecord::kCentreInside : 0u);
     r.configuration = g.configuration;
-    r.projectionType = std::uint8_t(samples[ci].proj.type);
-    r.faceOrAxis = std::uint8_t(std::max(0, samples[ci].proj.faceOrAxis));
-    r.presentFaces = samples[ci].present;
+    r.projectionType = std::uint8_t(s.proj.type);
+    r.faceOrAxis = std::uint8_t(std::max(0, s.proj.faceOrAxis));
+    r.presentFaces = s.present;
     r.firstLayer = layers;
-    for (int a = 0; a < 3; ++a) r.point[a] = float(samples[ci].proj.point[a]);
+    for (int a = 0; a < 3; ++a) r.point[a] = float(s.proj.point[a]);
     layers += std::popcount(unsigned(r.presentFaces));
     rep.droppedLayers += std::popcount(unsigned(g.domainFaces())) - std::popcount(unsigned(r.presentFaces));
-    for (const float d : samples[ci].distance)
+    for (const float d : s.distance)
       if (!std::isnan(d)) maxDistance = std::max(maxDistance, d);
   }
   model.distanceMax = maxDistance > 0 ? maxDistance : 1.0f;
@@ -228,67 +215,117 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
     else model.distances8 = ImageArray<std::uint8_t>(T, T, int(layers), 1);
     if (model.normalFormat == NormalFormat::Octahedral16)
       model.normals16 = ImageArray<std::uint16_t>(T, T, int(layers), 2);
-    if (model.normalFormat == NormalFormat::Rgba8)
-      model.normals8 = ImageArray<std::uint8_t>(T, T, int(layers), 4);
-    if (model.colorFormat == ColorFormat::Rgba8)
-      model.colors = ImageArray<std::uint8_t>(T, T, int(layers), 4);
+    if (model.normalFormat == NormalFormat::Rgba8) model.normals8 = ImageArray<std::uint8_t>(T, T, int(layers), 4);
+    if (model.colorFormat == ColorFormat::Rgba8) model.colors = ImageArray<std::uint8_t>(T, T, int(layers), 4);
   }
+  rep.layers = layers;
+  return model;
+}
+
+/// Quantizes one cell's samples into its layers of the maps; returns (filled, empty) samples.
+inline std::pair<std::size_t, std::size_t> quantizeCell(ReliefModel& model, const CellRecord& r,
+                                                        const CellSamples& s) {
+  const int T = model.texels;
   const double codeScale = double(model.maxCode()) / double(model.distanceMax);
+  std::size_t filled = 0, empty = 0;
+  int slot = 0;
+  for (int f = 0; f < cells::kFaceCount; ++f) {
+    if (!(cells::domainFacesOf(r.configuration) & (1u << f))) continue;
+    const int layer = r.layerOf(f);
+    if (layer >= 0)
+      for (int b = 0; b < T; ++b)
+        for (int a = 0; a < T; ++a) {
+          const std::size_t k = (std::size_t(slot) * T + b) * T + a;
+          const float d = s.distance[k];
+          const bool hasSurface = !std::isnan(d);
+          const std::uint32_t code =
+              hasSurface ? std::min<std::uint32_t>(model.maxCode(), std::uint32_t(std::lround(d * codeScale)))
+                         : model.emptyCode();
+          (hasSurface ? filled : empty)++;
+          if (model.distanceBits == 16) model.distances16.at(a, b, layer, 0) = std::uint16_t(code);
+          else model.distances8.at(a, b, layer, 0) = std::uint8_t(code);
+          if (!hasSurface) continue;
+          if (model.normalFormat == NormalFormat::Octahedral16) {
+            const Vec2f e = octahedralEncode(s.normal[k]);
+            model.normals16.at(a, b, layer, 0) = quantizeUnorm<std::uint16_t>(e.x);
+            model.normals16.at(a, b, layer, 1) = quantizeUnorm<std::uint16_t>(e.y);
+          } else if (model.normalFormat == NormalFormat::Rgba8) {
+            const Vec3f e = s.normal[k] * 0.5f + 0.5f;
+            for (int c = 0; c < 3; ++c) model.normals8.at(a, b, layer, c) = quantizeUnorm<std::uint8_t>(e[c]);
+            model.normals8.at(a, b, layer, 3) = 255;
+          }
+          if (model.colorFormat == ColorFormat::Rgba8)
+            for (int c = 0; c < 4; ++c) model.colors.at(a, b, layer, c) = s.color[k][c];
+        }
+    ++slot;
+  }
+  return {filled, empty};
+}
+
+/// Calls `progress` about 100 times over `total` steps, never twice at once and never backwards.
+class ProgressReporter {
+ public:
+  ProgressReporter(const std::function<void(double)>& progress, std::size_t total)
+      : mProgress(progress), mTotal(total), mEvery(std::max<std::size_t>(1, total / 100)) {}
+  void step() {
+    const std::size_t finished = ++mDone;
+    if (!mProgress || finished % mEvery != 0) return;
+    std::unique_lock lock(mMutex, std::try_to_lock);
+    const double fraction = double(finished) / double(mTotal);
+    if (lock.owns_lock() && fraction > mReported) mProgress(mReported = fraction);
+  }
+
+ private:
+  const std::function<void(double)>& mProgress;
+  std::size_t mTotal, mEvery;
+  std::atomic<std::size_t> mDone{0};
+  std::mutex mMutex;
+  double mReported = 0;
+};
+
+}  // namespace detail
+
+/// Samples the maps of a relief model on a cell complex of `mesh` and a ray query of it that the
+/// caller already has (options.gridSize is ignored: the complex fixes N). Reports the sampling
+/// time only; convert() below adds the grid. Steps: check the options and memory, sample every
+/// grey cell (in parallel), lay out the layers of the faces that hold surface, quantize the maps.
+inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& complex,
+                           const MeshRayQuery& query, const ConvertOptions& options,
+                           ConvertReport* report = nullptr) {
+  const auto start = std::chrono::steady_clock::now();
+  ConvertReport local;
+  ConvertReport& rep = report ? *report : local;
+  const int T = detail::checkConversion(complex, options);
+  const detail::Signals signals = detail::signalsOf(mesh, options);
+  const auto grey = complex.greyCells();
+
+  std::vector<detail::CellSamples> samples(grey.size());
+  detail::ProgressReporter progress(options.progress, grey.size());
+  parallelFor(0, grey.size(), [&](std::size_t ci) {
+    samples[ci] = detail::sampleCell(mesh, complex, query, options, signals, grey[ci], T);
+    progress.step();
+  }, 4);
+
+  ReliefModel model = detail::layOutLayers(complex, samples, options, signals, T, rep);
   std::atomic<std::size_t> filled{0}, empty{0};
   parallelFor(0, grey.size(), [&](std::size_t ci) {
-    const CellRecord& r = model.cells[ci];
-    const CellSamples& s = samples[ci];
-    int slot = 0;
-    std::size_t localFilled = 0, localEmpty = 0;
-    for (int f = 0; f < cells::kFaceCount; ++f) {
-      if (!(cells::domainFacesOf(r.configuration) & (1u << f))) continue;
-      const int layer = r.layerOf(f);
-      if (layer >= 0)
-        for (int b = 0; b < T; ++b)
-          for (int a = 0; a < T; ++a) {
-            const std::size_t k = (std::size_t(slot) * T + b) * T + a;
-            const float d = s.distance[k];
-            std::uint32_t code = model.emptyCode();
-            if (!std::isnan(d)) {
-              code = std::min<std::uint32_t>(model.maxCode(), std::uint32_t(std::lround(d * codeScale)));
-              ++localFilled;
-            } else {
-              ++localEmpty;
-            }
-            if (model.distanceBits == 16) model.distances16.at(a, b, layer, 0) = std::uint16_t(code);
-            else model.distances8.at(a, b, layer, 0) = std::uint8_t(code);
-            if (std::isnan(d)) continue;
-            if (model.normalFormat == NormalFormat::Octahedral16) {
-              const Vec2f e = octahedralEncode(s.normal[k]);
-              model.normals16.at(a, b, layer, 0) = quantizeUnorm<std::uint16_t>(e.x);
-              model.normals16.at(a, b, layer, 1) = quantizeUnorm<std::uint16_t>(e.y);
-            } else if (model.normalFormat == NormalFormat::Rgba8) {
-              const Vec3f e = s.normal[k] * 0.5f + 0.5f;
-              for (int c = 0; c < 3; ++c) model.normals8.at(a, b, layer, c) = quantizeUnorm<std::uint8_t>(e[c]);
-              model.normals8.at(a, b, layer, 3) = 255;
-            }
-            if (model.colorFormat == ColorFormat::Rgba8)
-              for (int c = 0; c < 4; ++c) model.colors.at(a, b, layer, c) = s.color[k][c];
-          }
-      ++slot;
-    }
-    filled += localFilled;
-    empty += localEmpty;
+    const auto [f, e] = detail::quantizeCell(model, model.cells[ci], samples[ci]);
+    filled += f;
+    empty += e;
   }, 16);
   if (options.progress) options.progress(1.0);
   // No stored sample means no model: the mesh encloses nothing the grid sees. Refused rather than
   // written as an empty model whose error reads "inf".
   if (filled == 0)
     throw Error(ErrorKind::InvalidInput,
-                "the mesh gives no grey cell with a stored sample on the " + std::to_string(n) + "^3 grid (" +
-                    std::to_string(grey.size()) + " grey cells, " + std::to_string(layers) +
+                "the mesh gives no grey cell with a stored sample on the " + std::to_string(complex.gridSize()) +
+                    "^3 grid (" + std::to_string(grey.size()) + " grey cells, " + std::to_string(rep.layers) +
                     " face layers), so no relief model: no projection line of its cells meets the surface");
 
   rep.greyCells = grey.size();
-  rep.layers = layers;
   rep.filledSamples = filled;
   rep.emptySamples = empty;
-  rep.quantizationErrorWS = model.quantizationError() * h;
+  rep.quantizationErrorWS = model.quantizationError() * complex.cellSizeWS();
   rep.sampleSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   rep.totalSeconds = rep.gridSeconds + rep.sampleSeconds;
   return model;

@@ -77,5 +77,49 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+// The robustness meshes (open, non-manifold, degenerate, flat, self-intersecting): the grey cells
+// are exactly those CGAL's do_intersect finds, at every N, whatever the mesh's defects (inside and
+// outside are not compared: for open meshes they are undefined).
+class RobustnessVersusCgal : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RobustnessVersusCgal, GreyCellsAgree) {
+  const auto path = test::dataDir() / "meshes/robustness" / GetParam();
+  CELLRELIEF_REQUIRE_FILE(path);
+  const TriangleMesh mesh = io::readMesh(path);
+  for (int n : {1, 7, 32}) {
+    const cells::CellComplex c = cells::CellComplex::build(mesh, {.gridSize = n});
+    const std::vector<char> grey = cgal::referenceGreyCells(c.snappedPositionsIS(), mesh.triangles, n);
+    std::size_t cgalGrey = 0, mismatch = 0;
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const bool reference = grey[cgal::cellId(n, x, y, z)];
+          cgalGrey += reference;
+          mismatch += reference != (c.color(Vec3i(x, y, z)) == cells::CellColor::Grey);
+        }
+    EXPECT_GT(cgalGrey, 0u) << "N = " << n;
+    EXPECT_EQ(c.stats().grey, cgalGrey) << "N = " << n;
+    EXPECT_EQ(mismatch, 0u) << "N = " << n;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Meshes, RobustnessVersusCgal,
+    ::testing::Values("bad_cube__cgal.off", "camelhead__libigl-tutorial-data.off",
+                      "degenerated__libigl-tests-data.obj", "degtri_four__cgal.off",
+                      "degtri_nullface__cgal.off", "degtri_sliding__cgal.off",
+                      "fan3__geometry-central.obj", "head_open_with_holes__cgal.off",
+                      "hourglass_ico__geometry-central.obj", "mech-holes-shark__cgal.off",
+                      "moebius__geometry-central.obj", "non_manifold_stitching__cgal.off",
+                      "non_manifold_vertex__cgal.off", "platonic_shelf__geometry-central.obj",
+                      "stl_box_ascii__geometry-central.stl", "stl_box_binary__geometry-central.stl",
+                      "triple_vierbein__geometry-central.obj",
+                      "two-boxes-bad-self-union__libigl-tests-data.ply"),
+    [](const auto& param) {
+      std::string name = param.param.substr(0, param.param.find("__"));
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
 }  // namespace
 }  // namespace cellrelief

@@ -96,9 +96,6 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
     const metrics::RayComparison r =
         metrics::compareRays(truth.depth, truth.mask, truth.normal, ours.depth, ours.mask, ours.normal);
     const std::size_t interior = interiorDisagreements(truth, ours);
-    writeDiffImage(truth, ours, spacing,
-                   std::filesystem::path("verify_images") /
-                       (c.name + "_" + std::to_string(int(yaw)) + ".png"));
     std::printf("%-10s view %3.0f/%3.0f: N = %d T = %d; %zu rays, %zu disagree (%zu only Embree, %zu "
                 "only ours, %.2e; %zu away from silhouettes); depth median %.3f p95 %.3f max %.1f texels (median %.1e, max "
                 "%.1e of the diagonal); normals median %.1f p95 %.1f degrees\n",
@@ -112,6 +109,11 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
     EXPECT_LE(r.depthError.p95 / spacing, c.maxP95Texels);
     EXPECT_LE(r.normalErrorDegrees.median, c.maxMedianDegrees);
     EXPECT_LE(interior, c.maxInterior);
+    // A picture of the disagreement when the view fails, under the build tree.
+    if (testing::Test::HasFailure())
+      writeDiffImage(truth, ours, spacing,
+                     std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "verify_failures" /
+                         (c.name + "_" + std::to_string(int(yaw)) + ".png"));
   }
 }
 

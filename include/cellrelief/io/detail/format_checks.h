@@ -180,10 +180,17 @@ inline void checkOff(const std::filesystem::path& path) {
     return;
   }
   if (rest.find_first_not_of(" \t\r") == std::string::npos && nextLine(line)) rest = line;
-  long long nv = -1, nf = -1;
-  std::istringstream cs(rest);
-  cs >> nv >> nf;
-  if (nv < 0 || nf < 0) fail(ErrorKind::FileFormat, "OFF header has no vertex and face counts");
+  // The counts: vertices, faces and (often left out) edges, plain integers and nothing else.
+  std::vector<std::string> counts;
+  {
+    std::istringstream cs(rest);
+    for (std::string t; cs >> t;) counts.push_back(t);
+  }
+  long long nv = -1, nf = -1, ne = 0;
+  if (counts.size() < 2 || counts.size() > 3 || !parseIndex(counts[0], nv) || !parseIndex(counts[1], nf) ||
+      (counts.size() == 3 && !parseIndex(counts[2], ne)))
+    fail(ErrorKind::FileFormat, "OFF header has no vertex, face and edge counts (three integers): '" +
+                                    rest.substr(0, 60) + "'");
   // The header word's prefixes say what each vertex line holds: [ST][C][N][4]OFF, texture
   // coordinates (2), a color (3 or 4, or 1 color-map index), a normal (3), a fourth coordinate.
   // OpenMesh reads the values it expects from each line; a line short of them, or a token that is

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -93,14 +94,37 @@ class PlyBodyReader {
  public:
   PlyBodyReader(std::istream& in, PlyFormat format) : mIn(in), mFormat(format) {}
 
+  /// ASCII only: starts the next item, one line of the body (blank lines skipped); false at end
+  /// of file. An item must be one whole line: OpenMesh reads the values of a line it was not
+  /// meant to as the next item's, and a count read from a coordinate sends it through millions
+  /// of corners.
+  bool beginItem() {
+    if (mFormat != PlyFormat::Ascii) return true;
+    std::string line;
+    while (std::getline(mIn, line)) {
+      std::istringstream ls(line);
+      mTokens.clear();
+      mNext = 0;
+      for (std::string t; ls >> t;) mTokens.push_back(t);
+      if (!mTokens.empty()) return true;
+    }
+    return false;
+  }
+  /// ASCII only: throws when the item's line holds more values than its properties.
+  void endItem() const {
+    if (mFormat == PlyFormat::Ascii && mNext != mTokens.size())
+      throw std::runtime_error("a line holds " + std::to_string(mTokens.size()) + " values, its properties " +
+                               std::to_string(mNext));
+  }
+
   /// Reads one value; returns false at end of file (truncation).
   bool read(int size, bool isFloat, bool isSigned, double& value) {
     if (mFormat == PlyFormat::Ascii) {
-      std::string token;
-      if (!(mIn >> token)) return false;
-      char* end = nullptr;
-      value = std::strtod(token.c_str(), &end);
-      if (end == token.c_str()) throw std::runtime_error("'" + token + "' is not a number");
+      if (mNext == mTokens.size()) return false;
+      const std::string& token = mTokens[mNext++];
+      if (!parseAscii(token, size, isFloat, isSigned, value))
+        throw std::runtime_error("'" + token.substr(0, 40) + "' is not " +
+                                 (isFloat ? "a decimal number" : "an integer of its property's type"));
       return true;
     }
     unsigned char bytes[8];
@@ -131,8 +155,28 @@ class PlyBodyReader {
     return double(u);
   }
 
+  /// A whole token: a decimal number for float properties, an integer in the type's range for
+  /// integer ones (OpenMesh's stream extraction stops at the first character it cannot use).
+  static bool parseAscii(const std::string& t, int size, bool isFloat, bool isSigned, double& value) {
+    if (isFloat) {
+      if (t.find_first_of("xXpP") != std::string::npos) return false;  // no hexadecimal floats
+      char* end = nullptr;
+      value = std::strtod(t.c_str(), &end);
+      return end != t.c_str() && *end == '\0';
+    }
+    const std::size_t digits = (t[0] == '-' || t[0] == '+') ? 1 : 0;
+    if (digits == t.size() || t.size() - digits > 20 ||
+        t.find_first_not_of("0123456789", digits) != std::string::npos || (t[0] == '-' && !isSigned))
+      return false;
+    value = std::strtod(t.c_str(), nullptr);
+    const double range = std::ldexp(1.0, 8 * size - (isSigned ? 1 : 0));
+    return isSigned ? value >= -range && value < range : value < range;
+  }
+
   std::istream& mIn;
   PlyFormat mFormat;
+  std::vector<std::string> mTokens;  // ASCII: the current item's values
+  std::size_t mNext = 0;
 };
 
 /// Parses the header and walks the body. Throws Error(FileFormat) naming the file and the problem.
@@ -223,12 +267,13 @@ inline PlyScan scanPly(const std::string& path) {
     scan.hasStrips = scan.hasStrips || strips;
     std::vector<std::int64_t> strip;
     for (std::uint64_t i = 0; i < e.count; ++i) {
+      auto truncated = [&]() {
+        fail("file ends early: element '" + e.name + "' " + std::to_string(i) + " of " +
+             std::to_string(e.count) + " is incomplete (truncated file)");
+      };
+      if (!body.beginItem()) truncated();
       for (const PlyProperty& p : e.properties) {
         double v = 0;
-        auto truncated = [&]() {
-          fail("file ends early: element '" + e.name + "' " + std::to_string(i) + " of " +
-               std::to_string(e.count) + " is incomplete (truncated file)");
-        };
         try {
           if (!p.isList) {
             if (!body.read(p.size, p.isFloat, p.isSigned, v)) truncated();
@@ -257,8 +302,13 @@ inline PlyScan scanPly(const std::string& path) {
           }
         } catch (const std::runtime_error& ex) {
           if (dynamic_cast<const Error*>(&ex)) throw;
-          fail(std::string("element '") + e.name + "': " + ex.what());
+          fail(std::string("element '") + e.name + "' " + std::to_string(i) + ": " + ex.what());
         }
+      }
+      try {
+        body.endItem();
+      } catch (const std::runtime_error& ex) {
+        fail(std::string("element '") + e.name + "' " + std::to_string(i) + ": " + ex.what());
       }
     }
   }

@@ -27,6 +27,20 @@ inline std::uint64_t cellId(int n, int x, int y, int z) {
   return (std::uint64_t(z) * n + y) * n + x;
 }
 
+/// Whether a triangle meets a closed box. CGAL's triangle test assumes a proper triangle, so a
+/// degenerate one (collinear corners, as in the robustness meshes) is tested as the segment between
+/// its two farthest corners, or as a point.
+inline bool meets(const Kernel::Triangle_3& tri, const Kernel::Iso_cuboid_3& cell) {
+  if (!tri.is_degenerate()) return CGAL::do_intersect(tri, cell);
+  const Point p[3] = {tri.vertex(0), tri.vertex(1), tri.vertex(2)};
+  int a = 0, b = 1;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j)
+      if (CGAL::squared_distance(p[i], p[j]) > CGAL::squared_distance(p[a], p[b])) a = i, b = j;
+  if (p[a] == p[b]) return !cell.has_on_unbounded_side(p[a]);
+  return CGAL::do_intersect(Kernel::Segment_3(p[a], p[b]), cell);
+}
+
 /// Grey flags of the n^3 cells: true where some triangle meets the closed cell.
 inline std::vector<char> referenceGreyCells(std::span<const Vec3d> positionsIS,
                                             std::span<const Vec3u> triangles, int n) {
@@ -46,7 +60,7 @@ inline std::vector<char> referenceGreyCells(std::span<const Vec3d> positionsIS,
           char& g = grey[cellId(n, x, y, z)];
           if (g) continue;
           const Kernel::Iso_cuboid_3 cell(Point(x, y, z), Point(x + 1, y + 1, z + 1));
-          if (CGAL::do_intersect(tri, cell)) g = 1;
+          if (meets(tri, cell)) g = 1;
         }
   }
   return grey;
