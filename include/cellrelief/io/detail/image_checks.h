@@ -104,12 +104,14 @@ inline std::string checkTgaSize(const std::vector<unsigned char>& b) {
 /// same way) holds |height| rows of 4-byte aligned pixels from
 /// its data offset. (Run-length encoded ones go to the project's own decoder, bmp_rle.h.)
 inline std::string checkBmpSize(const std::vector<unsigned char>& b) {
-  if (b.size() < 26) return "";
+  if (b.size() < 26) return "truncated BMP: shorter than its headers";
   const std::uint64_t offset = le32(b, 10), dib = le32(b, 14);
+  // stb reads a header cut short as zeros and the rest as pixels of whatever size it then says.
+  if (b.size() < 14 + std::min<std::uint64_t>(dib, 40)) return "truncated BMP: shorter than its headers";
   std::uint64_t width = 0, height = 0, bits = 0, compression = 0;
   if (dib == 12) {  // OS/2 BITMAPCOREHEADER: 16-bit sizes
     width = le16(b, 18), height = le16(b, 20), bits = le16(b, 24);
-  } else if (dib >= 40 && b.size() >= 34) {
+  } else if (dib >= 40) {
     width = std::uint64_t(std::abs(std::int64_t(std::int32_t(le32(b, 18)))));
     height = std::uint64_t(std::abs(std::int64_t(std::int32_t(le32(b, 22)))));
     bits = le16(b, 28), compression = le32(b, 30);
