@@ -6,6 +6,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -105,6 +106,26 @@ inline std::vector<SourceRow> readSources() {
     rows.push_back(row);
   }
   return rows;
+}
+
+/// The files of meshes/robustness: open, non-manifold, degenerate, flat, self-intersecting.
+inline const std::vector<std::string>& robustnessMeshes() {
+  static const std::vector<std::string> kMeshes{
+      "bad_cube__cgal.off", "camelhead__libigl-tutorial-data.off", "degenerated__libigl-tests-data.obj",
+      "degtri_four__cgal.off", "degtri_nullface__cgal.off", "degtri_sliding__cgal.off",
+      "fan3__geometry-central.obj", "head_open_with_holes__cgal.off", "hourglass_ico__geometry-central.obj",
+      "mech-holes-shark__cgal.off", "moebius__geometry-central.obj", "non_manifold_stitching__cgal.off",
+      "non_manifold_vertex__cgal.off", "platonic_shelf__geometry-central.obj",
+      "stl_box_ascii__geometry-central.stl", "stl_box_binary__geometry-central.stl",
+      "triple_vierbein__geometry-central.obj", "two-boxes-bad-self-union__libigl-tests-data.ply"};
+  return kMeshes;
+}
+
+/// A test name from a mesh file name: the part before "__", '-' made '_'.
+inline std::string meshTestName(const testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param.substr(0, info.param.find("__"));
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
 }
 
 /// What the command line printed and how it ended.

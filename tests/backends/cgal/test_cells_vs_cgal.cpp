@@ -105,21 +105,7 @@ TEST_P(RobustnessVersusCgal, GreyCellsAgree) {
 
 INSTANTIATE_TEST_SUITE_P(
     Meshes, RobustnessVersusCgal,
-    ::testing::Values("bad_cube__cgal.off", "camelhead__libigl-tutorial-data.off",
-                      "degenerated__libigl-tests-data.obj", "degtri_four__cgal.off",
-                      "degtri_nullface__cgal.off", "degtri_sliding__cgal.off",
-                      "fan3__geometry-central.obj", "head_open_with_holes__cgal.off",
-                      "hourglass_ico__geometry-central.obj", "mech-holes-shark__cgal.off",
-                      "moebius__geometry-central.obj", "non_manifold_stitching__cgal.off",
-                      "non_manifold_vertex__cgal.off", "platonic_shelf__geometry-central.obj",
-                      "stl_box_ascii__geometry-central.stl", "stl_box_binary__geometry-central.stl",
-                      "triple_vierbein__geometry-central.obj",
-                      "two-boxes-bad-self-union__libigl-tests-data.ply"),
-    [](const auto& param) {
-      std::string name = param.param.substr(0, param.param.find("__"));
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+    ::testing::ValuesIn(test::robustnessMeshes()), test::meshTestName);
 
 }  // namespace
 }  // namespace cellrelief
