@@ -91,7 +91,8 @@ inline ImageFile readImage(const std::filesystem::path& path) {
 
   ImageFile result;
   result.format = detail::imageFormat(bytes);
-  const std::string structure = result.format == "jpeg"  ? detail::checkJpegTables(bytes)
+  const std::string structure = result.format == "png"   ? detail::checkPngChunks(bytes)
+                              : result.format == "jpeg" ? detail::checkJpegTables(bytes)
                               : result.format == "tga" ? detail::checkTgaSize(bytes)
                               : result.format == "bmp" && !detail::isRleBmp(bytes) ? detail::checkBmpSize(bytes)
                                                                                    : std::string();

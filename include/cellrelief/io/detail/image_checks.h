@@ -4,6 +4,7 @@
 /// wrong, found by fuzzing (tests/fuzz):
 /// - a JPEG Huffman table whose 16 code counts add up to more than 256 symbols makes stb write past
 ///   its tables (fixed upstream in 2.28);
+/// - a PNG chunk longer than the file makes stb allocate what it claims;
 /// - an uncompressed TGA or BMP shorter than its header's width x height needs is decoded anyway,
 ///   the missing pixels read as zeros: a silent wrong image, and a 40-byte file that claims
 ///   16384 x 16384 pixels costs seconds and a gigabyte.
@@ -61,6 +62,23 @@ inline std::string checkJpegTables(const std::vector<unsigned char>& b) {
              !(b[p] == 0xFF && b[p + 1] != 0x00 && !(b[p + 1] >= 0xD0 && b[p + 1] <= 0xD7)))
         ++p;
     }
+  }
+  return "";
+}
+
+/// Every chunk of a PNG fits in the file: stb grows its data buffer to the lengths the chunks
+/// claim before reading them, so a 94-byte file claiming a 2 GiB data chunk allocates 2 GiB.
+inline std::string checkPngChunks(const std::vector<unsigned char>& b) {
+  std::size_t p = 8;  // past the signature
+  while (p + 8 <= b.size()) {
+    const std::uint64_t length = (std::uint64_t(b[p]) << 24) | (std::uint64_t(b[p + 1]) << 16) |
+                                 (std::uint64_t(b[p + 2]) << 8) | b[p + 3];
+    const std::string type(b.begin() + std::ptrdiff_t(p + 4), b.begin() + std::ptrdiff_t(p + 8));
+    if (p + 12 + length > b.size())
+      return "truncated PNG: chunk '" + type + "' claims " + std::to_string(length) + " bytes, the file has " +
+             std::to_string(b.size() - std::min(b.size(), p + 8)) + " after its header";
+    if (type == "IEND") return "";
+    p += 12 + length;
   }
   return "";
 }
