@@ -191,6 +191,11 @@ inline void checkOff(const std::filesystem::path& path) {
       (counts.size() == 3 && !parseIndex(counts[2], ne)))
     fail(ErrorKind::FileFormat, "OFF header has no vertex, face and edge counts (three integers): '" +
                                     rest.substr(0, 60) + "'");
+  // No vertex or no face is no surface, and OpenMesh's reader loops on such a header followed by
+  // anything: refused before it runs.
+  if (nv == 0 || nf == 0)
+    fail(ErrorKind::InvalidInput, "the OFF header declares " + std::to_string(nv) + " vertices and " +
+                                      std::to_string(nf) + " faces: no surface");
   // The header word's prefixes say what each vertex line holds: [ST][C][N][4]OFF, texture
   // coordinates (2), a color (3 or 4, or 1 color-map index), a normal (3), a fourth coordinate.
   // OpenMesh reads the values it expects from each line; a line short of them, or a token that is
