@@ -22,9 +22,10 @@
 namespace cellrelief::io::detail {
 
 /// A finite decimal number, the whole token. Hexadecimal floats ("0x.5") are refused: strtod takes
-/// them, but OpenMesh's stream extraction reads "0" and derails on the rest.
+/// them, but OpenMesh's stream extraction reads "0" and derails on the rest (as it does on a NUL).
 inline bool parseFinite(const std::string& token, double& value) {
-  if (token.find_first_of("xXpP") != std::string::npos) return false;
+  // No hexadecimal floats, and no NUL bytes (strtod would stop at one and call the token whole).
+  if (token.find_first_of(std::string("xXpP\0", 5)) != std::string::npos) return false;
   const char* s = token.c_str();
   char* end = nullptr;
   value = std::strtod(s, &end);

@@ -159,7 +159,8 @@ class PlyBodyReader {
   /// integer ones (OpenMesh's stream extraction stops at the first character it cannot use).
   static bool parseAscii(const std::string& t, int size, bool isFloat, bool isSigned, double& value) {
     if (isFloat) {
-      if (t.find_first_of("xXpP") != std::string::npos) return false;  // no hexadecimal floats
+      // No hexadecimal floats, and no NUL bytes (strtod stops at one and calls the token whole).
+      if (t.find_first_of(std::string("xXpP\0", 5)) != std::string::npos) return false;
       char* end = nullptr;
       value = std::strtod(t.c_str(), &end);
       return end != t.c_str() && *end == '\0';
