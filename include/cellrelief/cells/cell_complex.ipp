@@ -74,9 +74,10 @@ struct GridPlacement {
 /// keeps as far from those planes as the others allow (a quarter cell for one plane), with the mesh
 /// as near the middle as that leaves. Planes on the cube's boundary need nothing: there the
 /// surface lies on an external face, at distance 0.
-inline GridPlacement placeGrid(const TriangleMesh& mesh, const Aabbd& box, int n) {
+inline GridPlacement placeGrid(const TriangleMesh& mesh, const Aabbd& box, int n, bool avoidProjectionPlanes) {
   const Aabbd cube = box.boundingCube(0.0);
   GridPlacement place{cube.min, cube.extent().x / n};
+  if (!avoidProjectionPlanes) return place;
   const Vec3d extent = box.extent();
   const std::array<std::vector<double>, 3> planes = axisPlanesOfTriangles(mesh);
   // A little more than the snapping step: a plane that close to a grid plane snaps onto it.
@@ -140,9 +141,7 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
   CellComplex c;
   c.mGridSize = n;
   const detail::GridPlacement place =
-      options.offProjectionPlanes
-          ? detail::placeGrid(mesh, box, n)
-          : detail::GridPlacement{box.boundingCube(0.0).min, box.boundingCube(0.0).extent().x / n};
+      detail::placeGrid(mesh, box, n, options.offProjectionPlanes);
   c.mCellSizeWS = place.cellSizeWS;
   const double side = n * c.mCellSizeWS;
   c.mBoundsWS = Aabbd(place.minWS, place.minWS + Vec3d(side));
