@@ -91,6 +91,47 @@ TEST(MeshIO, PolygonsAreTriangulated) {
   EXPECT_EQ(m.triangleCount(), 80u);  // 32 triangles + 6 quads * 2 + 12 pentagons * 3
 }
 
+TEST(MeshIO, OffLayoutsOfTheHeaderWordAreRead) {
+  test::TempDir dir;
+  // Comments, the counts on the header line, per-vertex normal, color (integers on one line,
+  // numbers 0..1 on the others) and texture coordinates, a face with its own color, and a face
+  // of two corners, which is skipped.
+  test::writeBytes(dir / "layout.off",
+                   "# a comment before the header\n"
+                   "STCNOFF 4 3 0\n"
+                   "0 0 0  0 0 1  255 0 0      0.25 0.5  # integer color\n"
+                   "1 0 0  0 0 1  0 1.0 0 0.5  1 0\n"
+                   "\n"
+                   "0 1 0  0 0 1  0 0 1.0      0 1\n"
+                   "0 0 1  1 0 0  0.5 0.5 0.5  1 1\n"
+                   "3 0 1 2  0.1 0.2 0.3\n"
+                   "2 0 3\n"
+                   "4 0 1 3 2\n");
+  const TriangleMesh m = io::readMesh(dir / "layout.off");
+  ASSERT_EQ(m.vertexCount(), 4u);
+  EXPECT_EQ(m.triangleCount(), 3u);  // the triangle and the fanned quad
+  EXPECT_EQ(m.sourcePolygons, 2u);
+  ASSERT_TRUE(m.hasNormals() && m.hasColors() && m.hasUVs());
+  EXPECT_EQ(m.normals[3], Vec3f(1, 0, 0));
+  EXPECT_EQ(m.colors[0], Color8(255, 0, 0, 255));
+  EXPECT_EQ(m.colors[1], Color8(0, 255, 0, 128));
+  EXPECT_EQ(m.colors[3], Color8(128, 128, 128, 255));
+  EXPECT_EQ(m.uvs[0], Vec2f(0.25f, 0.5f));  // corner 0 of triangle 0 is vertex 0
+  EXPECT_EQ(m.uvs[1], Vec2f(1, 0));
+  // Homogeneous positions are divided by w; w = 0 is no point.
+  test::writeBytes(dir / "w.off", "4OFF\n3 1\n0 0 0 2\n2 0 0 2\n0 4 0 2\n3 0 1 2\n");
+  EXPECT_EQ(io::readMesh(dir / "w.off").positions[2], Vec3f(0, 2, 0));
+  test::writeBytes(dir / "w0.off", "4OFF\n3 1\n0 0 0 1\n2 0 0 0\n0 4 0 1\n3 0 1 2\n");
+  try {
+    io::readMesh(dir / "w0.off");
+    ADD_FAILURE() << "w = 0 was read";
+  } catch (const Error& e) {
+    EXPECT_TRUE(std::string(e.what()).find("line 4: vertex 1 has the homogeneous coordinate w = 0") !=
+                std::string::npos)
+        << e.what();
+  }
+}
+
 class MeshRoundTrip : public ::testing::TestWithParam<std::pair<const char*, bool>> {};
 
 TEST_P(MeshRoundTrip, WriteThenReadGivesTheSameMesh) {
@@ -116,7 +157,8 @@ TEST_P(MeshRoundTrip, WriteThenReadGivesTheSameMesh) {
     EXPECT_EQ(back.triangles, mesh.triangles);
   }
   EXPECT_EQ(analyzeTopology(back).genus, 0);
-  if (std::string(extension) == ".ply" && binary) EXPECT_EQ(back.colors, mesh.colors);
+  if ((std::string(extension) == ".ply" && binary) || std::string(extension) == ".off")
+    EXPECT_EQ(back.colors, mesh.colors);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
                           std::filesystem::directory_iterator()),
             1)

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file mesh_io.h
 /// Reading and writing triangle meshes: OBJ, PLY (ASCII and binary, including triangle strips), OFF
-/// and STL (ASCII and binary), through OpenMesh's parsers and writers.
+/// and STL (ASCII and binary), through OpenMesh's parsers and writers, except ASCII OFF, which has
+/// cellrelief's own reader (detail/off_reader.h: OpenMesh's hangs on malformed files).
 ///
 /// OpenMesh parses; cellrelief keeps what it parsed as a soup (detail/openmesh_importer.h), so that
 /// non-manifold and multi-component meshes load unchanged. Polygons are fan-triangulated. Before
@@ -26,6 +27,7 @@
 #include "cellrelief/core/triangle_mesh.h"
 #include "cellrelief/io/atomic_file.h"
 #include "cellrelief/io/detail/format_checks.h"
+#include "cellrelief/io/detail/off_reader.h"
 #include "cellrelief/io/detail/openmesh_exporter.h"
 #include "cellrelief/io/detail/openmesh_importer.h"
 #include "cellrelief/io/detail/ply_scan.h"
@@ -176,13 +178,22 @@ inline TriangleMesh readMesh(const std::filesystem::path& path, const MeshReadOp
                 "unsupported mesh format '" + ext + "' (supported: .obj .ply .off .stl)");
 
   detail::PlyScan ply;
-  if (ext == ".ply") ply = detail::scanPly(path.string());
-  else if (ext == ".off") detail::checkOff(path);
-  else if (ext == ".stl") detail::checkStl(path);
-  else if (ext == ".obj") detail::checkObj(path);
-
   detail::PolygonSoup soup;
-  {
+  bool parsed = false;  // by cellrelief's own reader, not OpenMesh
+  if (ext == ".ply") {
+    ply = detail::scanPly(path.string());
+  } else if (ext == ".off") {
+    const detail::OffLayout layout = detail::parseOffLayout(path);
+    parsed = !layout.binary;
+    if (parsed) soup = detail::readAsciiOff(path);
+    else detail::checkBinaryOffCounts(path, layout.dims);
+  } else if (ext == ".stl") {
+    detail::checkStl(path);
+  } else if (ext == ".obj") {
+    detail::checkObj(path);
+  }
+
+  if (!parsed) {
     detail::SoupImporter importer(soup);
     using Opt = OpenMesh::IO::Options;
     Opt opt(Opt::VertexNormal | Opt::VertexColor | Opt::VertexTexCoord | Opt::FaceTexCoord);
