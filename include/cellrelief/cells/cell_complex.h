@@ -109,7 +109,14 @@ class CellComplex {
   Vec3d worldToIndex(const Vec3d& pWS) const { return (pWS - mBoundsWS.min) / mCellSizeWS; }
   Vec3d indexToWorld(const Vec3d& pIS) const { return mBoundsWS.min + pIS * mCellSizeWS; }
 
+  /// The sparse grid: voxel ijk is cell ijk (grey: its index into greyCells(), active; black:
+  /// inactive tiles; white: the background). Its transform places voxel centres in world space
+  /// when hasWorldTransform(cellSizeWS()); OpenVDB cannot hold smaller cells, and then the
+  /// transform is the identity and indexToWorld() is the placement.
   const Grid& grid() const { return *mGrid; }
+  /// Whether OpenVDB's linear transform can hold this cell size (its ScaleMap takes a voxel
+  /// volume under 3e-15 for zero).
+  static bool hasWorldTransform(double cellSizeWS) { return cellSizeWS * cellSizeWS * cellSizeWS > 1e-14; }
   std::span<const GreyCell> greyCells() const { return mGreyCells; }
   /// Triangles meeting a grey cell (indices into the mesh).
   std::span<const std::uint32_t> cellTriangles(const GreyCell& cell) const {

@@ -279,10 +279,14 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
   // The sparse grid: grey cells active, black cells inactive tiles after pruning, white background.
   openvdb::initialize();
   c.mGrid = Grid::create(kWhite);
-  c.mGrid->setTransform(openvdb::math::Transform::createLinearTransform(c.mCellSizeWS));
-  c.mGrid->transform().postTranslate(openvdb::Vec3d(c.mBoundsWS.min.x + 0.5 * c.mCellSizeWS,
-                                                    c.mBoundsWS.min.y + 0.5 * c.mCellSizeWS,
-                                                    c.mBoundsWS.min.z + 0.5 * c.mCellSizeWS));
+  // OpenVDB's scale maps refuse a voxel whose volume is near 0 in absolute terms (a cell under
+  // about 1.4e-5 units): such a grid keeps the identity transform (see grid()).
+  if (hasWorldTransform(c.mCellSizeWS)) {
+    c.mGrid->setTransform(openvdb::math::Transform::createLinearTransform(c.mCellSizeWS));
+    c.mGrid->transform().postTranslate(openvdb::Vec3d(c.mBoundsWS.min.x + 0.5 * c.mCellSizeWS,
+                                                      c.mBoundsWS.min.y + 0.5 * c.mCellSizeWS,
+                                                      c.mBoundsWS.min.z + 0.5 * c.mCellSizeWS));
+  }
   c.mGrid->setName("cellrelief_cells");
   {
     Grid::Accessor acc = c.mGrid->getAccessor();
