@@ -5,6 +5,7 @@
 /// depths, channel counts, compression), so that mutations start from every code path. Run once by
 /// hand (`make_corpus <corpus dir>`) when a reader learns a feature; the output is checked in.
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -77,6 +78,40 @@ void meshSeeds(const fs::path& root) {
   writeText(off / "quads_noff.off",
             "NOFF\n5 5 0\n0 0 0 0 0 -1\n1 0 0 0 0 -1\n1 1 0 0 0 -1\n0 1 0 0 0 -1\n"
             "0.5 0.5 1 0 0 1\n4 0 3 2 1\n3 0 1 4\n3 1 2 4\n3 2 3 4\n3 3 0 4\n");
+  writeText(off / "layouts_stcnoff.off",
+            "# every vertex value the header word can name\nSTCNOFF 4 2 0\n"
+            "0 0 0 0 0 1 255 0 0 0 0\n1 0 0 0 0 1 0 1.0 0 0.5 1 0\n"
+            "0 1 0 0 0 1 0 0 1.0 0 1 # a comment\n\n0 0 1 1 0 0 0.5 0.5 0.5 1 1\n"
+            "3 0 1 2 0.1 0.2 0.3\n4 0 1 3 2\n");
+  writeText(off / "homogeneous_4off.off", "4OFF 4 4\n0 0 0 1\n2 0 0 2\n0 3 0 3\n0 0 4 4\n"
+                                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  {
+    // Binary OFF as Geomview writes it: big-endian counts, floats and faces.
+    std::vector<std::uint8_t> b;
+    for (char c : std::string("COFF BINARY\n")) b.push_back(std::uint8_t(c));
+    auto put = [&](std::uint32_t w) {
+      for (int k = 0; k < 4; ++k) b.push_back(std::uint8_t(w >> (24 - 8 * k)));
+    };
+    auto putFloat = [&](float f) {
+      std::uint32_t w;
+      std::memcpy(&w, &f, 4);
+      put(w);
+    };
+    for (std::uint32_t count : {4u, 4u, 6u}) put(count);
+    const float vertices[4][7] = {
+        {0, 0, 0, 1, 0, 0, 1}, {1, 0, 0, 0, 1, 0, 1}, {0, 1, 0, 0, 0, 1, 1}, {0, 0, 1, 1, 1, 1, 0.5f}};
+    for (const auto& v : vertices)
+      for (float x : v) putFloat(x);
+    const std::uint32_t faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& f : faces) {
+      put(3);
+      for (std::uint32_t i : f) put(i);
+      put(f[0] == 0 ? 0 : 3);  // one face with a color of 3 floats
+      if (f[0] != 0)
+        for (int k = 0; k < 3; ++k) putFloat(0.5f);
+    }
+    writeBytes(off / "tetrahedron_binary.off", b);
+  }
   writeText(stlA / "tetrahedron_named.stl",
             "solid tetra\nfacet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\n"
             "endfacet\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\n"

@@ -3,6 +3,8 @@
 // SOURCES.md gives for it (counted independently by a separate script); formats round-trip.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <cellrelief/core/mesh_topology.h>
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/io/mesh_io.h>
@@ -130,6 +132,46 @@ TEST(MeshIO, OffLayoutsOfTheHeaderWordAreRead) {
                 std::string::npos)
         << e.what();
   }
+}
+
+/// A binary OFF by hand: Geomview's big-endian layout, or the machine's little-endian order.
+std::string binaryOff(bool big, std::uint32_t corners = 3) {
+  std::string bytes = "# binary\nCOFF BINARY\n";
+  auto put = [&](std::uint32_t w) {
+    for (int k = 0; k < 4; ++k) bytes.push_back(char(big ? (w >> (24 - 8 * k)) & 255 : (w >> (8 * k)) & 255));
+  };
+  auto putFloat = [&](float f) {
+    std::uint32_t w;
+    std::memcpy(&w, &f, 4);
+    put(w);
+  };
+  for (std::uint32_t count : {3u, 1u, 0u}) put(count);
+  const float vertices[3][7] = {{0, 0, 0, 1, 0, 0, 1}, {1, 0, 0, 0, 1, 0, 1}, {0, 2, 0, 0, 0, 1, 0.5f}};
+  for (const auto& v : vertices)
+    for (float x : v) putFloat(x);
+  put(corners);
+  for (std::uint32_t k = 0; k < 3; ++k) put(k);
+  put(0);  // no face color
+  return bytes;
+}
+
+TEST(MeshIO, BinaryOffInEitherByteOrderIsRead) {
+  test::TempDir dir;
+  for (bool big : {true, false}) {
+    test::writeBytes(dir / "b.off", binaryOff(big));
+    const TriangleMesh m = io::readMesh(dir / "b.off");
+    ASSERT_EQ(m.triangleCount(), 1u) << big;
+    EXPECT_EQ(m.positions[2], Vec3f(0, 2, 0)) << big;
+    ASSERT_TRUE(m.hasColors());
+    EXPECT_EQ(m.colors[2], Color8(0, 0, 255, 128)) << big;
+  }
+  // A face claiming more corners than the file holds is refused, not read past the end.
+  test::writeBytes(dir / "b.off", binaryOff(true, 1000000));
+  EXPECT_THROW(io::readMesh(dir / "b.off"), Error);
+  std::string cut = binaryOff(true);
+  cut.resize(cut.size() - 6);
+  test::writeBytes(dir / "b.off", cut);
+  EXPECT_THROW(io::readMesh(dir / "b.off"), Error);
 }
 
 class MeshRoundTrip : public ::testing::TestWithParam<std::pair<const char*, bool>> {};

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file mesh_io.h
 /// Reading and writing triangle meshes: OBJ, PLY (ASCII and binary, including triangle strips), OFF
-/// and STL (ASCII and binary), through OpenMesh's parsers and writers, except ASCII OFF, which has
+/// and STL (ASCII and binary), through OpenMesh's parsers and writers, except OFF, which has
 /// cellrelief's own reader (detail/off_reader.h: OpenMesh's hangs on malformed files).
 ///
 /// OpenMesh parses; cellrelief keeps what it parsed as a soup (detail/openmesh_importer.h), so that
@@ -184,9 +184,8 @@ inline TriangleMesh readMesh(const std::filesystem::path& path, const MeshReadOp
     ply = detail::scanPly(path.string());
   } else if (ext == ".off") {
     const detail::OffLayout layout = detail::parseOffLayout(path);
-    parsed = !layout.binary;
-    if (parsed) soup = detail::readAsciiOff(path);
-    else detail::checkBinaryOffCounts(path, layout.dims);
+    soup = layout.binary ? detail::readBinaryOff(path, layout) : detail::readAsciiOff(path);
+    parsed = true;
   } else if (ext == ".stl") {
     detail::checkStl(path);
   } else if (ext == ".obj") {

@@ -5,8 +5,8 @@
 /// not expect, shifts every later value, and some such files send it into loops that never end
 /// (the fuzzer kept finding new ones). This reader takes the file a line at a time, checks each
 /// line whole against what the header word says it holds, and names the line of any problem. It
-/// fills the same polygon soup as OpenMesh's readers. Binary OFF, rare and fixed-size, still goes
-/// through OpenMesh after checkBinaryOffCounts().
+/// fills the same polygon soup as OpenMesh's readers. Binary OFF has its own reader here too: a
+/// header OpenMesh takes for binary, or not, is no longer its guess.
 #pragma once
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -120,10 +121,16 @@ inline OffLayout parseOffHeader(OffLines& lines, const std::filesystem::path& pa
                     "', not [ST][C][N][4]OFF" +
                     (prefix.find('n') != std::string_view::npos ? " (nOFF, a dimension other than 3, is not supported)"
                                                                  : ""));
+  if (tokens.size() > 1 && tokens[1] == "BINARY") {
+    if (tokens.size() > 2)
+      throw Error(ErrorKind::FileFormat, path,
+                  "unexpected '" + std::string(tokens[2].substr(0, 40)) + "' after 'BINARY' in the OFF header");
+    layout.binary = true;
+    return layout;
+  }
   for (std::size_t k = 1; k < tokens.size(); ++k) {
     long long v;
-    if (tokens[k] == "BINARY") layout.binary = true;
-    else if (!parseCountToken(tokens[k], v))
+    if (!parseCountToken(tokens[k], v))
       throw Error(ErrorKind::FileFormat, path,
                   "unexpected '" + std::string(tokens[k].substr(0, 40)) + "' after the OFF header word");
     else layout.countsOnHeaderLine += std::string(tokens[k]) + " ";
@@ -138,30 +145,102 @@ inline OffLayout parseOffLayout(const std::filesystem::path& path) {
   return parseOffHeader(lines, path);
 }
 
-/// A binary OFF: after the header line, vertex, face and edge counts (32-bit, big-endian as the
-/// format says, or little-endian as some writers do), then the vertices and faces; the counts must
-/// fit the file (a face needs at least its count and three indices).
-inline void checkBinaryOffCounts(const std::filesystem::path& path, int dims) {
+/// Reads a binary OFF (Geomview's layout): after the header line, vertex, face and edge counts as
+/// 32-bit integers, each vertex as 32-bit floats (position, then the normal, color (4) and texture
+/// coordinates its header word names), each face as its corner count, the indices and a count of
+/// color floats that follow. The format says big-endian; OpenMesh writes the machine's order, so
+/// the order is the one whose counts fit the file. Every count and index is checked against the
+/// bytes that remain before it is used.
+inline PolygonSoup readBinaryOff(const std::filesystem::path& path, const OffLayout& layout) {
   std::ifstream in(path, std::ios::binary);
+  OffLines lines(in);
   std::string header;
-  std::getline(in, header);
-  unsigned char c[12] = {};
-  in.read(reinterpret_cast<char*>(c), 12);
-  const std::uint64_t size = std::filesystem::file_size(path);
-  const std::uint64_t body = size > header.size() + 1 ? size - header.size() - 1 : 0;
-  auto fits = [&](bool big) {
-    auto at = [&](int i) {
-      const unsigned char* p = c + 4 * i;
-      return big ? (std::uint64_t(p[0]) << 24) | (std::uint64_t(p[1]) << 16) | (std::uint64_t(p[2]) << 8) | p[3]
-                 : (std::uint64_t(p[3]) << 24) | (std::uint64_t(p[2]) << 16) | (std::uint64_t(p[1]) << 8) | p[0];
-    };
-    return in.gcount() == 12 && at(0) < (1u << 31) && at(1) < (1u << 31) &&
-           12 + at(0) * 4 * std::uint64_t(dims) + at(1) * 16 <= body;
+  lines.next(header);  // the body starts after the header line (and any comments before it)
+  const std::vector<char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto fail = [&](const std::string& problem) {
+    throw Error(ErrorKind::FileFormat, path, "binary OFF: " + problem);
   };
-  if (!fits(true) && !fits(false))
-    throw Error(ErrorKind::FileFormat, path,
-                "binary OFF whose vertex and face counts do not fit its " + std::to_string(size) +
-                    " bytes (truncated or corrupt)");
+  const int vertexFloats = layout.dims + (layout.normals ? 3 : 0) + (layout.colors ? 4 : 0) + (layout.texcoords ? 2 : 0);
+  auto word = [&](std::size_t at, bool big) {
+    const auto* p = reinterpret_cast<const unsigned char*>(body.data() + at);
+    return big ? (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3]
+               : (std::uint32_t(p[3]) << 24) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[1]) << 8) | p[0];
+  };
+  if (body.size() < 12) fail("the file ends before the vertex, face and edge counts");
+  // The byte order whose counts fit: vertices whole, and each face at least its count, three
+  // indices and its color count.
+  auto fits = [&](bool big) {
+    const std::uint64_t nv = word(0, big), nf = word(4, big);
+    return nv > 0 && nf > 0 && nv < (1u << 31) && nf < (1u << 31) &&
+           12 + nv * 4 * std::uint64_t(vertexFloats) + nf * 20 <= body.size();
+  };
+  const bool big = fits(true);
+  if (!big && !fits(false))
+    fail("vertex and face counts that do not fit its " + std::to_string(body.size()) +
+         " bytes after the header (truncated or corrupt)");
+  const std::uint32_t nv = word(0, big), nf = word(4, big);
+  auto real = [&](std::size_t at) {
+    const std::uint32_t bits = word(at, big);
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  };
+  PolygonSoup soup;
+  soup.hasNormals = layout.normals;
+  soup.hasColors = layout.colors;
+  soup.hasVertexUVs = layout.texcoords;
+  std::size_t at = 12;
+  for (std::uint32_t i = 0; i < nv; ++i, at += 4 * std::size_t(vertexFloats)) {
+    float v[16];
+    for (int k = 0; k < vertexFloats; ++k) {
+      v[k] = real(at + 4 * std::size_t(k));
+      if (!std::isfinite(v[k])) fail("vertex " + std::to_string(i) + " has a value that is not a finite number");
+    }
+    Vec3f p(v[0], v[1], v[2]);
+    if (layout.dims == 4) {
+      if (v[3] == 0.0f) fail("vertex " + std::to_string(i) + " has the homogeneous coordinate w = 0");
+      p /= v[3];
+    }
+    soup.positions.push_back(p);
+    int k = layout.dims;
+    if (layout.normals) soup.normals.emplace_back(v[k], v[k + 1], v[k + 2]), k += 3;
+    if (layout.colors) {
+      Color8 c;
+      for (int j = 0; j < 4; ++j) c[j] = std::uint8_t(std::lround(std::clamp(v[k + j], 0.0f, 1.0f) * 255.0f));
+      soup.colors.push_back(c);
+      k += 4;
+    }
+    if (layout.texcoords) soup.vertexUVs.emplace_back(v[k], v[k + 1]);
+  }
+  for (std::uint32_t i = 0; i < nf; ++i) {
+    const std::string where = "face " + std::to_string(i);
+    if (at + 4 > body.size()) fail("the file ends at " + where + " of " + std::to_string(nf) + " (truncated file)");
+    const std::uint32_t n = word(at, big);
+    at += 4;
+    if (std::uint64_t(n) * 4 + 4 > body.size() - at)
+      fail(where + " claims " + std::to_string(n) + " corners, more than the file holds");
+    const std::size_t first = soup.corners.size();
+    for (std::uint32_t k = 0; k < n; ++k, at += 4) {
+      const std::uint32_t index = word(at, big);
+      if (index >= nv)
+        throw Error(ErrorKind::InvalidInput, path,
+                    "binary OFF: " + where + " refers to vertex " + std::to_string(index) + " but there are only " +
+                        std::to_string(nv) + " vertices");
+      soup.corners.push_back(index);
+    }
+    const std::uint32_t colors = word(at, big);
+    at += 4;
+    if (colors > 4 || std::uint64_t(colors) * 4 > body.size() - at)
+      fail(where + " has " + std::to_string(colors) + " color values (at most 4, within the file)");
+    at += 4 * std::size_t(colors);
+    if (n < 3) {
+      soup.corners.resize(first);
+      ++soup.rejectedFaces;
+      continue;
+    }
+    soup.offsets.push_back(std::uint32_t(soup.corners.size()));
+  }
+  return soup;
 }
 
 /// Reads an ASCII OFF into a polygon soup. Every line is checked whole: the counts are plain
