@@ -76,7 +76,8 @@ struct ModelInfo {
   int pyramidLevels;
   int pyramidLayerStride;
   int layerCount;
-  int pad1[3];
+  int openSurface;  // ReliefModel::openSurface()
+  int pad1[2];
   int levelSize[CR_MAX_PYRAMID_LEVELS];
   int levelOffset[CR_MAX_PYRAMID_LEVELS];
 };
@@ -137,6 +138,8 @@ vec3 gPoint;
 uint gDomain;      // domain faces
 bool gInterior;
 bool gCentreInside;
+bool gOpenSurface;  // CellRecord::kOpenSurface: the cell holds a hole's rim
+bool gOpenModel;    // ReliefModel::openSurface(): no side carried across cell faces
 
 void selectModel(int m) {
   gModel = m;
@@ -146,6 +149,7 @@ void selectModel(int m) {
   gTexels = models[m].texels;
   gDistanceScale = models[m].distanceScale;
   gEmptyCode = uint(models[m].emptyCode);
+  gOpenModel = models[m].openSurface != 0;
   gHashOffset = models[m].hashOffset;
   gHashMask = uint(models[m].hashMask);
   gLayerBase = models[m].layerBase;
@@ -173,6 +177,7 @@ void selectCell(int index) {
   gInterior = gConfiguration == 0u;
   gDomain = gInterior ? 63u : (gConfiguration & 63u);
   gCentreInside = (cells[index].packedIjk & CR_CENTRE_INSIDE_BIT) != 0u;
+  gOpenSurface = (cells[index].packedIjk & CR_OPEN_SURFACE_BIT) != 0u;
 }
 
 // ---- the cell lookup (gpu_layout.h: cellHash, findCell) ---------------------------------------
@@ -400,7 +405,9 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     const float t = t0 + (t1 - t0) * float(i) / float(linear);
     const float f = field(localPoint(t), fp);
     ++steps;
-    if ((fPrev > 0.0) != (f > 0.0)) {
+    // With a hole's rim in the cell, a step between an empty line and one with surface is no crossing.
+    if ((fPrev > 0.0) != (f > 0.0) &&
+        !(gOpenSurface && (abs(fPrev) >= CR_EMPTY_FIELD || abs(f) >= CR_EMPTY_FIELD))) {
       crossed = true;
       tCrossing = t;
       break;
@@ -528,9 +535,10 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
   int level = top;
   float s = 0.0;
   uint steps = 0u;
-  bool inside = false;
+  bool inside = false, known = true;  // known false: an empty texel cell with a hole's rim in the cell
   float d;
   if (stored(layer, vec2(axisOf(p0, ua), axisOf(p0, va)), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
+  else known = !gOpenSurface;
   const float edge = float(gTexels - 1);
   while (s < 1.0) {
     // The walk skips and descends in a tight loop of its own until a texel cell needs the exact
@@ -566,7 +574,13 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
       const float deepest = max(clamp(depth0 + s * dDepth, 0.0, depthLimit),
                                 clamp(depth0 + min(sExit, 1.0) * dDepth, 0.0, depthLimit));
       if (code >= gEmptyCode || deepest < float(code) * gDistanceScale) {
-        if (inside) return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
+        if (gOpenSurface && code >= gEmptyCode) {
+          known = false;
+        } else {
+          if (inside && known) return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
+          known = true;
+        }
+        inside = false;
         s = sExit;
         level = min(level + 1, top);
         continue;
@@ -589,6 +603,10 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
     const float q1 = (d10 - d00) * dx + (d01 - d00) * dy + e * (ax * dy + ay * dx);
     const float q2 = e * dx * dy;
     const float qa = -q2, qb = dDepth - q1, qc = depth0 - q0;
+    if (!known) {
+      inside = quadratic(qa, qb, qc, s) > 0.0;
+      known = true;
+    }
     if ((quadratic(qa, qb, qc, s) > 0.0) != inside)
       return skipHitAt(s, t0, t1, face, depth0, dDepth, depthLimit, steps);
     float root;
@@ -639,14 +657,14 @@ Hit searchCell(float t0, float t1) {
   const float nearFace = CR_NEAR_FACE_SAMPLES / float(gTexels - 1);
   const bool farIn = abs(fIn) > nearFace && abs(fIn) < CR_EMPTY_FIELD;
   const bool farExit = abs(gExitField) > nearFace && abs(gExitField) < CR_EMPTY_FIELD;
-  if (gSide != kSideUnknown && (fIn > 0.0) != (gSide == kSideInside) && !(farIn && farExit))
+  if (!gOpenModel && gSide != kSideUnknown && (fIn > 0.0) != (gSide == kSideInside) && !(farIn && farExit))
     return makeHit(t0, fp, 1u);
   // The linear search hands over the fields at both ends instead of reading them again.
   float fOut = CR_NO_FIELD;
   const Hit hit = searchInside(t0, t1, fIn, fp, fOut);
   if (hit.cell < 0) {
     if (fOut == CR_NO_FIELD) fOut = field(localPoint(t1), fp);
-    gSide = fOut > 0.0 ? kSideInside : kSideOutside;
+    gSide = gOpenModel ? kSideUnknown : fOut > 0.0 ? kSideInside : kSideOutside;
     gExitField = abs(fOut);
   }
   return hit;

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <optional>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "cellrelief/core/triangle_mesh.h"
@@ -185,6 +186,41 @@ inline MeshTopology analyzeTopology(const TriangleMesh& mesh) {
   if (r.components == 1 && r.closed() && r.manifold() && r.oriented())
     r.genus = static_cast<int>((2 - r.eulerCharacteristic) / 2);
   return r;
+}
+
+/// The edges that only one triangle uses (the rims of holes and the borders of open sheets), as
+/// pairs of vertex indices. Vertices at the same position count as one, so a soup (an STL file,
+/// where every triangle has its own corners) has the boundary of the surface it makes, not of
+/// each triangle; degenerate triangles' repeated corners make no edge.
+inline std::vector<std::pair<std::uint32_t, std::uint32_t>> boundaryEdges(const TriangleMesh& mesh) {
+  const std::size_t nv = mesh.positions.size();
+  std::vector<std::uint32_t> order(nv), canonical(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) order[v] = v;
+  auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3f &p = mesh.positions[a], &q = mesh.positions[b];
+    return std::tie(p.x, p.y, p.z, a) < std::tie(q.x, q.y, q.z, b);
+  };
+  std::sort(order.begin(), order.end(), less);
+  for (std::size_t i = 0; i < nv; ++i)
+    canonical[order[i]] = i > 0 && mesh.positions[order[i]] == mesh.positions[order[i - 1]]
+                              ? canonical[order[i - 1]]
+                              : order[i];
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  for (const Vec3u& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = canonical[t[k]], b = canonical[t[(k + 1) % 3]];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> once;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) once.push_back(edges[i]);
+    i = j;
+  }
+  return once;
 }
 
 }  // namespace cellrelief

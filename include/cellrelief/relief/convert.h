@@ -17,6 +17,7 @@
 
 #include "cellrelief/cells/cell_complex.h"
 #include "cellrelief/core/bvh.h"
+#include "cellrelief/core/mesh_topology.h"
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/metrics/geometric_error.h"
 #include "cellrelief/relief/flat_mesh.h"
@@ -176,11 +177,37 @@ inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex
   return out;
 }
 
+/// The grey cells that hold a boundary edge of the mesh (CellRecord::kOpenSurface): each edge is
+/// walked in steps of at most a quarter cell, and every cell within a millionth of a cell of a
+/// step's point is marked (an edge in a cell plane marks the cells on both sides).
+inline std::vector<char> openCells(const TriangleMesh& mesh, const cells::CellComplex& complex) {
+  std::vector<char> open(complex.greyCells().size(), 0);
+  const int n = complex.gridSize();
+  const auto& tree = complex.grid().tree();
+  constexpr double kSlack = 1e-6;
+  for (const auto& [a, b] : boundaryEdges(mesh)) {
+    const Vec3d pa = complex.worldToIndex(Vec3d(mesh.positions[a]));
+    const Vec3d pb = complex.worldToIndex(Vec3d(mesh.positions[b]));
+    const int steps = 1 + int(std::ceil(4.0 * glm::length(pb - pa)));
+    for (int k = 0; k <= steps; ++k) {
+      const Vec3d p = pa + (pb - pa) * (double(k) / steps);
+      const Vec3i lo = glm::clamp(Vec3i(glm::floor(p - kSlack)), Vec3i(0), Vec3i(n - 1));
+      const Vec3i hi = glm::clamp(Vec3i(glm::floor(p + kSlack)), Vec3i(0), Vec3i(n - 1));
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x)
+            if (const std::int32_t index = tree.getValue(openvdb::Coord(x, y, z)); index >= 0) open[index] = 1;
+    }
+  }
+  return open;
+}
+
 /// The model's header and look-up table: one record per grey cell, layers for present faces only
 /// (in cell and face order), and the largest distance, which sets the quantization step.
+/// `open` marks the grey cells that hold a boundary edge of the mesh (openCells).
 inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::vector<CellSamples>& samples,
-                                const ConvertOptions& options, const Signals& signals, int T,
-                                ConvertReport& rep) {
+                                const std::vector<char>& open, const ConvertOptions& options,
+                                const Signals& signals, int T, ConvertReport& rep) {
   const auto grey = complex.greyCells();
   ReliefModel model;
   model.gridSize = complex.gridSize();
@@ -197,7 +224,8 @@ inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::ve
     const cells::GreyCell& g = grey[ci];
     const CellSamples& s = samples[ci];
     CellRecord& r = model.cells[ci];
-    r.packedIjk = CellRecord::packIjk(g.ijk) | (s.centreInside ? CellRecord::kCentreInside : 0u);
+    r.packedIjk = CellRecord::packIjk(g.ijk) | (s.centreInside ? CellRecord::kCentreInside : 0u) |
+                  (open[ci] ? CellRecord::kOpenSurface : 0u);
     r.configuration = g.configuration;
     r.projectionType = std::uint8_t(s.proj.type);
     r.faceOrAxis = std::uint8_t(std::max(0, s.proj.faceOrAxis));
@@ -306,7 +334,7 @@ inline ReliefModel convert(const TriangleMesh& mesh, const cells::CellComplex& c
     progress.step();
   }, 4);
 
-  ReliefModel model = detail::layOutLayers(complex, samples, options, signals, T, rep);
+  ReliefModel model = detail::layOutLayers(complex, samples, detail::openCells(mesh, complex), options, signals, T, rep);
   std::atomic<std::size_t> filled{0}, empty{0};
   parallelFor(0, grey.size(), [&](std::size_t ci) {
     const auto [f, e] = detail::quantizeCell(model, model.cells[ci], samples[ci]);

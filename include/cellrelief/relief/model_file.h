@@ -202,7 +202,7 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
     const Vec3i p = r.ijk();
     // The projection must be the one its configuration chooses (type and face or axis), with a
     // finite point in the cell: nothing downstream then indexes out of range.
-    const bool flagsOk = (r.packedIjk >> 31) == 0 && (!r.centreInside() || r.configuration == 0);
+    const bool flagsOk = !r.centreInside() || r.configuration == 0;
     bool ok = flagsOk && p.x < m.gridSize && p.y < m.gridSize && p.z < m.gridSize && r.configuration < 64 &&
               (r.presentFaces & ~cells::domainFacesOf(r.configuration)) == 0 &&
               r.firstLayer == nextLayer;

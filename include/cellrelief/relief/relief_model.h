@@ -15,6 +15,8 @@
 /// Faces on which no surface projects get no layer at all.
 #pragma once
 
+#include <algorithm>
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -37,7 +39,7 @@ enum class ColorFormat : std::uint8_t { None = 0, Rgba8 = 1 };
 
 /// One grey cell of the look-up table, 24 bytes, as a std430 struct of 32-bit words.
 struct CellRecord {
-  std::uint32_t packedIjk = 0;  ///< i | j << 10 | k << 20 | kCentreInside
+  std::uint32_t packedIjk = 0;  ///< i | j << 10 | k << 20 | kCentreInside | kOpenSurface
   std::uint8_t configuration = 0;
   std::uint8_t projectionType = 0;  ///< projection::ProjectionType
   std::uint8_t faceOrAxis = 0;      ///< parallel: the face; planar, axial: the axis
@@ -50,6 +52,12 @@ struct CellRecord {
   /// inside or outside; it lies on the centre's side, and this bit says which that is.
   static constexpr std::uint32_t kCentreInside = 1u << 30;
   bool centreInside() const { return (packedIjk & kCentreInside) != 0; }
+  /// Set in cells that hold a boundary edge of the input (the rim of a hole, the border of an
+  /// open sheet). Through a hole a projection line may see no surface where the object's inside
+  /// is, so there an empty line says nothing of the side: the tracer takes no step between an
+  /// empty line and one with surface for a crossing (and ReliefModel::openSurface() holds).
+  static constexpr std::uint32_t kOpenSurface = 1u << 31;
+  bool openSurface() const { return (packedIjk & kOpenSurface) != 0; }
 
   Vec3i ijk() const {
     return {int(packedIjk & 1023u), int((packedIjk >> 10) & 1023u), int((packedIjk >> 20) & 1023u)};
@@ -158,6 +166,12 @@ struct ReliefModel {
     return originWS + (Vec3d(ijk) + p) * cellSizeWS;
   }
   double diagonalWS() const { return std::sqrt(3.0) * cellSizeWS * gridSize; }
+  /// Whether the input was open (some cell holds a boundary edge, CellRecord::kOpenSurface). Its
+  /// white space then reaches both sides of the surface through the holes, so a cell's reading of
+  /// the side says nothing of its neighbour's, and the tracer carries no side across cell faces.
+  bool openSurface() const {
+    return std::any_of(cells.begin(), cells.end(), [](const CellRecord& r) { return r.openSurface(); });
+  }
 };
 
 }  // namespace cellrelief::relief

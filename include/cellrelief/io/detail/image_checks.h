@@ -58,9 +58,22 @@ inline std::string checkJpegTables(const std::vector<unsigned char>& b) {
     }
     p += length;
     if (marker == 0xDA) {  // SOS: skip the entropy-coded data to the next marker
-      while (p + 1 < b.size() &&
-             !(b[p] == 0xFF && b[p + 1] != 0x00 && !(b[p + 1] >= 0xD0 && b[p + 1] <= 0xD7)))
-        ++p;
+      // As stb's decoder reads it: 0xFF, any 0xFF fill bytes, then 0x00 is a data byte, and a
+      // restart marker stays in the data; anything else after 0xFF (and its fill) is a marker.
+      while (p + 1 < b.size()) {
+        if (b[p] != 0xFF) {
+          ++p;
+          continue;
+        }
+        std::size_t q = p + 1;
+        while (q < b.size() && b[q] == 0xFF) ++q;
+        if (q >= b.size()) return "";
+        if (b[q] != 0x00 && !(b[q] >= 0xD0 && b[q] <= 0xD7)) {
+          p = q - 1;  // at the last 0xFF before the marker
+          break;
+        }
+        p = q + 1;
+      }
     }
   }
   return "";

@@ -87,7 +87,8 @@ struct ModelInfo {
   std::int32_t pyramidLevels;
   std::int32_t pyramidLayerStride;
   std::int32_t layerCount;
-  std::int32_t pad1[3];
+  std::int32_t openSurface;  ///< ReliefModel::openSurface(): no side carried across cell faces
+  std::int32_t pad1[2];
   std::int32_t levelSize[kMaxPyramidLevels];
   std::int32_t levelOffset[kMaxPyramidLevels];
 };
@@ -228,6 +229,7 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     info.distanceMax = m.distanceMax;
     info.gridSize = m.gridSize;
     info.texels = m.texels;
+    info.openSurface = m.openSurface() ? 1 : 0;
     info.cellOffset = int(out.cells.size());
     std::tie(info.hashOffset, info.hashMask) =
         detail::appendHashTable(m, info.cellOffset, out.hashSlots);

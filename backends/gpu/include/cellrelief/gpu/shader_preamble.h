@@ -110,6 +110,7 @@ inline std::string traversalConstants() {
   s += define("CR_SURFACE_OFFSET_SAMPLES", glslFloat(c::kSurfaceOffsetSamples));
   s += define("CR_GAMMA3", glslFloat(roundingGamma<float>(3)));
   s += detail::defineUint("CR_CENTRE_INSIDE_BIT", relief::CellRecord::kCentreInside);
+  s += detail::defineUint("CR_OPEN_SURFACE_BIT", relief::CellRecord::kOpenSurface);
   s += define("CR_MAX_PYRAMID_LEVELS", kMaxPyramidLevels);
   s += define("CR_PROJ_PARALLEL", int(projection::ProjectionType::Parallel));
   s += define("CR_PROJ_PLANAR", int(projection::ProjectionType::Planar));
