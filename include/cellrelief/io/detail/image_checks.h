@@ -27,9 +27,12 @@ inline std::uint32_t le32(const std::vector<unsigned char>& b, std::size_t at) {
 }
 
 /// Walks the JPEG's markers (through the entropy-coded data after each scan, where progressive
-/// files define further tables) and checks every Huffman table's symbol count.
+/// files define further tables) and checks every Huffman table's symbol count, and that every
+/// table a scan decodes with was defined before it.
 inline std::string checkJpegTables(const std::vector<unsigned char>& b) {
   std::size_t p = 2;  // past SOI
+  unsigned definedDc = 0, definedAc = 0;  // Huffman tables 0..3 a DHT defined so far
+  bool progressive = false;
   while (p + 1 < b.size()) {
     if (b[p] != 0xFF) {  // padding between segments: stb scans over it to the next marker
       ++p;
@@ -43,11 +46,27 @@ inline std::string checkJpegTables(const std::vector<unsigned char>& b) {
     if (p + 2 > b.size()) return "";
     const std::size_t length = (std::size_t(b[p]) << 8) | b[p + 1];
     if (length < 2) return "";
+    auto byteAt = [&](std::size_t i) -> std::size_t { return i < b.size() ? b[i] : 0; };
+    if (marker == 0xC2) progressive = true;
+    if (marker == 0xDA) {  // SOS: every Huffman table the scan decodes with was defined before it
+      // (stb reads an undefined one from uninitialized memory). A progressive DC scan uses only
+      // DC tables (none on refinement), an AC scan only AC tables; a baseline scan both.
+      const std::size_t components = byteAt(p + 2);
+      const std::size_t spectral = p + 3 + 2 * components;
+      const bool dcScan = byteAt(spectral) == 0, firstPass = (byteAt(spectral + 2) >> 4) == 0;
+      const bool needDc = !progressive || (dcScan && firstPass), needAc = !progressive || !dcScan;
+      for (std::size_t c = 0; c < components; ++c) {
+        const std::size_t tables = byteAt(p + 4 + 2 * c);
+        if ((needDc && !(definedDc >> (tables >> 4) & 1u)) || (needAc && !(definedAc >> (tables & 15) & 1u)))
+          return "corrupt JPEG: a scan decodes with a Huffman table that no DHT segment defined";
+      }
+    }
     if (marker == 0xC4) {  // DHT: tables of (class/id, 16 counts, symbols)
       // As stb reads it: to the segment's stated end, bytes past the end of the file as zeros.
-      auto byteAt = [&](std::size_t i) -> std::size_t { return i < b.size() ? b[i] : 0; };
       std::size_t q = p + 2;
       while (q < p + length && q < b.size()) {
+        const std::size_t id = byteAt(q);
+        if ((id >> 4) <= 1 && (id & 15) <= 3) ((id >> 4) == 0 ? definedDc : definedAc) |= 1u << (id & 15);
         std::size_t symbols = 0;
         for (int i = 0; i < 16; ++i) symbols += byteAt(q + 1 + std::size_t(i));
         if (symbols > 256)
