@@ -81,10 +81,11 @@ bool readMeshBytes(std::string_view extension, const std::uint8_t* data, std::si
   }
 }
 
-bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::size_t size) {
+bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::size_t size,
+                    std::uint64_t maxPixels) {
   const std::filesystem::path& path = scratchFor(extension).write(data, size);
   try {
-    const io::ImageFile image = io::readImage(path);
+    const io::ImageFile image = io::readImage(path, {.maxPixels = maxPixels});
     // Touch every pixel: a short buffer behind a large header shows up here under ASan.
     std::uint64_t sum = 0;
     std::visit([&](const auto& im) {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 
 namespace cellrelief::fuzz {
@@ -18,7 +19,8 @@ namespace cellrelief::fuzz {
 /// Returns true when the reader accepted the file.
 bool readMeshBytes(std::string_view extension, const std::uint8_t* data, std::size_t size);
 /// Reads the bytes as an image file (".png", ".jpg", ".tga", ".bmp").
-bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::size_t size);
+bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::size_t size,
+                    std::uint64_t maxPixels = std::numeric_limits<std::uint64_t>::max());
 /// Reads the bytes as a relief model (.crm). When `fixChecksum` is set the last four bytes are
 /// replaced by the checksum of the rest first, so mutations reach the checks behind the CRC.
 bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cellrelief/core/error.h"
@@ -23,9 +25,10 @@ namespace cellrelief::io::detail {
 
 /// A finite decimal number, the whole token. Hexadecimal floats ("0x.5") are refused: strtod takes
 /// them, but OpenMesh's stream extraction reads "0" and derails on the rest (as it does on a NUL).
-inline bool parseFinite(const std::string& token, double& value) {
+inline bool parseFinite(std::string_view view, double& value) {
   // No hexadecimal floats, and no NUL bytes (strtod would stop at one and call the token whole).
-  if (token.find_first_of(std::string("xXpP\0", 5)) != std::string::npos) return false;
+  if (view.find_first_of(std::string_view("xXpP\0", 5)) != std::string_view::npos) return false;
+  const std::string token(view);  // strtod needs the terminator (short tokens stay on the stack)
   const char* s = token.c_str();
   char* end = nullptr;
   value = std::strtod(s, &end);
@@ -33,11 +36,10 @@ inline bool parseFinite(const std::string& token, double& value) {
 }
 
 /// A non-negative decimal integer, the whole token, below 2^62.
-inline bool parseIndex(const std::string& token, long long& value) {
-  if (token.empty() || token.size() > 18 || token.find_first_not_of("0123456789") != std::string::npos)
+inline bool parseIndex(std::string_view token, long long& value) {
+  if (token.empty() || token.size() > 18 || token.find_first_not_of("0123456789") != std::string_view::npos)
     return false;
-  value = std::stoll(token);
-  return true;
+  return std::from_chars(token.data(), token.data() + token.size(), value).ec == std::errc();
 }
 
 /// One corner of an OBJ face, "v", "v/vt", "v//vn" or "v/vt/vn": each index a non-zero integer

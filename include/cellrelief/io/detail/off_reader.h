@@ -10,7 +10,6 @@
 #pragma once
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -22,6 +21,7 @@
 #include <vector>
 
 #include "cellrelief/core/error.h"
+#include "cellrelief/io/detail/format_checks.h"
 #include "cellrelief/io/detail/openmesh_importer.h"
 
 namespace cellrelief::io::detail {
@@ -52,24 +52,6 @@ inline void splitTokens(std::string_view line, std::vector<std::string_view>& to
     tokens.push_back(line.substr(i, end == std::string_view::npos ? std::string_view::npos : end - i));
     i = end == std::string_view::npos ? end : line.find_first_not_of(kSpace, end);
   }
-}
-
-/// A finite decimal number, the whole token (a leading '+' allowed; no hexadecimal, inf or nan).
-inline bool parseFiniteToken(std::string_view token, double& value) {
-  if (!token.empty() && token[0] == '+') {
-    token.remove_prefix(1);
-    if (token.empty() || token[0] == '-' || token[0] == '+') return false;
-  }
-  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value,
-                                         std::chars_format::general);
-  return ec == std::errc() && end == token.data() + token.size() && std::isfinite(value);
-}
-
-/// A non-negative decimal integer, the whole token, below 10^18.
-inline bool parseCountToken(std::string_view token, long long& value) {
-  if (token.empty() || token.size() > 18 || token.find_first_not_of("0123456789") != std::string_view::npos)
-    return false;
-  return std::from_chars(token.data(), token.data() + token.size(), value).ec == std::errc();
 }
 
 /// Lines of an OFF file with '#' comments removed and blank lines skipped.
@@ -130,7 +112,7 @@ inline OffLayout parseOffHeader(OffLines& lines, const std::filesystem::path& pa
   }
   for (std::size_t k = 1; k < tokens.size(); ++k) {
     long long v;
-    if (!parseCountToken(tokens[k], v))
+    if (!parseIndex(tokens[k], v))
       throw Error(ErrorKind::FileFormat, path,
                   "unexpected '" + std::string(tokens[k].substr(0, 40)) + "' after the OFF header word");
     else layout.countsOnHeaderLine += std::string(tokens[k]) + " ";
@@ -143,6 +125,17 @@ inline OffLayout parseOffLayout(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   OffLines lines(in);
   return parseOffHeader(lines, path);
+}
+
+/// Ends the polygon whose corners start at `firstCorner`: kept when it has 3 corners or more,
+/// otherwise dropped and counted in rejectedFaces (as OpenMesh's readers do).
+inline void closePolygon(PolygonSoup& soup, std::size_t firstCorner) {
+  if (soup.corners.size() - firstCorner < 3) {
+    soup.corners.resize(firstCorner);
+    ++soup.rejectedFaces;
+    return;
+  }
+  soup.offsets.push_back(std::uint32_t(soup.corners.size()));
 }
 
 /// Reads a binary OFF (Geomview's layout): after the header line, vertex, face and edge counts as
@@ -233,12 +226,7 @@ inline PolygonSoup readBinaryOff(const std::filesystem::path& path, const OffLay
     if (colors > 4 || std::uint64_t(colors) * 4 > body.size() - at)
       fail(where + " has " + std::to_string(colors) + " color values (at most 4, within the file)");
     at += 4 * std::size_t(colors);
-    if (n < 3) {
-      soup.corners.resize(first);
-      ++soup.rejectedFaces;
-      continue;
-    }
-    soup.offsets.push_back(std::uint32_t(soup.corners.size()));
+    closePolygon(soup, first);
   }
   return soup;
 }
@@ -262,8 +250,8 @@ inline PolygonSoup readAsciiOff(const std::filesystem::path& path) {
   std::vector<std::string_view> tokens;
   splitTokens(line, tokens);
   long long nv = -1, nf = -1, ne = 0;
-  if (tokens.size() < 2 || tokens.size() > 3 || !parseCountToken(tokens[0], nv) || !parseCountToken(tokens[1], nf) ||
-      (tokens.size() == 3 && !parseCountToken(tokens[2], ne)))
+  if (tokens.size() < 2 || tokens.size() > 3 || !parseIndex(tokens[0], nv) || !parseIndex(tokens[1], nf) ||
+      (tokens.size() == 3 && !parseIndex(tokens[2], ne)))
     fail(ErrorKind::FileFormat,
          "OFF header has no vertex, face and edge counts (three integers): '" + line.substr(0, 60) + "'");
   if (nv == 0 || nf == 0)
@@ -290,7 +278,7 @@ inline PolygonSoup readAsciiOff(const std::filesystem::path& path) {
     double v[64];
     const int count = int(std::min<std::size_t>(tokens.size(), 64));
     for (int k = 0; k < count; ++k)
-      if (!parseFiniteToken(tokens[k], v[k]))
+      if (!parseFinite(tokens[k], v[k]))
         fail(k < layout.dims ? ErrorKind::InvalidInput : ErrorKind::FileFormat,
              where + (k < layout.dims ? " coordinate '" : " value '") + std::string(tokens[k].substr(0, 40)) +
                  "' is not a finite number");
@@ -343,13 +331,13 @@ inline PolygonSoup readAsciiOff(const std::filesystem::path& path) {
     splitTokens(line, tokens);
     const std::string where = "face " + std::to_string(i);
     long long n = -1;
-    if (!parseCountToken(tokens[0], n)) fail(ErrorKind::FileFormat, where + " has no corner count (a non-negative integer)");
+    if (!parseIndex(tokens[0], n)) fail(ErrorKind::FileFormat, where + " has no corner count (a non-negative integer)");
     if (std::size_t(n) + 1 > tokens.size())
       fail(ErrorKind::FileFormat, where + " has fewer than " + std::to_string(n) + " vertex indices");
     const std::size_t firstCorner = soup.corners.size();
     for (long long k = 1; k <= n; ++k) {
       long long index = -1;
-      if (!parseCountToken(tokens[std::size_t(k)], index))
+      if (!parseIndex(tokens[std::size_t(k)], index))
         fail(ErrorKind::FileFormat, where + " has a vertex index '" + std::string(tokens[std::size_t(k)].substr(0, 40)) +
                                         "' that is not a non-negative integer");
       if (index >= nv)
@@ -363,16 +351,11 @@ inline PolygonSoup readAsciiOff(const std::filesystem::path& path) {
                                       " corners and more values after them (a face needs 3 corners)");
     for (std::size_t k = std::size_t(n) + 1; k < tokens.size(); ++k) {
       double value;
-      if (!parseFiniteToken(tokens[k], value))
+      if (!parseFinite(tokens[k], value))
         fail(ErrorKind::FileFormat, where + " has a color value '" + std::string(tokens[k].substr(0, 40)) +
                                         "' that is not a number");
     }
-    if (n < 3) {
-      soup.corners.resize(firstCorner);
-      ++soup.rejectedFaces;
-      continue;
-    }
-    soup.offsets.push_back(std::uint32_t(soup.corners.size()));
+    closePolygon(soup, firstCorner);
   }
   return soup;
 }
