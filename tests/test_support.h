@@ -128,6 +128,14 @@ inline std::string meshTestName(const testing::TestParamInfo<std::string>& info)
   return name;
 }
 
+/// A test name from a data path: the file's stem before "__", '-' made '_'.
+inline std::string testNameOfPath(const std::string& path) {
+  std::string name = std::filesystem::path(path).stem().string();
+  name = name.substr(0, name.find("__"));
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+}
+
 /// What the command line printed and how it ended.
 struct CliResult {
   int status = -1;     ///< exit status, or 128 + the signal that ended it

@@ -94,14 +94,14 @@ int main(int argc, char** argv) {
     const metrics::DistanceField field(mesh);
     relief::ReliefModel model;
     const double seconds = bench::medianSeconds(quick ? 1 : 3, [&] { model = relief::convert(mesh); });
-    const metrics::SurfaceError e = metrics::surfaceError(mesh, field, relief::reconstruct(model), samples);
+    const metrics::SurfaceError e = metrics::surfaceError(mesh, field, relief::reconstructPerFace(model), samples);
     const double rms = e.rms() / diagonal, hausdorff = e.hausdorff() / diagonal;
     // The same N and T with the centre of projection at each cell's surface centroid.
     const relief::ReliefModel centroid = relief::convert(
         mesh, {.gridSize = model.gridSize, .texels = model.texels,
                .centre = projection::CentreOfProjection::SurfaceCentroid});
     const double centroidRms =
-        metrics::surfaceError(mesh, field, relief::reconstruct(centroid), samples).rms() / diagonal;
+        metrics::surfaceError(mesh, field, relief::reconstructPerFace(centroid), samples).rms() / diagonal;
     // OpenVDB: halve the voxel from diagonal / 64 until the level set is at least as accurate.
     LevelSetPoint ls;
     for (double voxel = diagonal / 64; voxel > diagonal / (quick ? 256 : 2048); voxel /= 2) {

@@ -3,10 +3,12 @@
 /// `cellrelief convert <mesh> -o model.crm` and `cellrelief reconstruct model.crm -o mesh.ply`.
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 
 #include <unistd.h>
 
+#include <cellrelief/core/mesh_topology.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/metrics/geometric_error.h>
@@ -15,6 +17,7 @@
 #include <cellrelief/relief/model_file.h>
 
 #include "commands.h"
+#include "preview.h"
 
 namespace cellrelief::app {
 
@@ -107,10 +110,10 @@ int runConvert(const ConvertCli& o) {
   if (o.measure) {
     const auto t0 = std::chrono::steady_clock::now();
     const metrics::SurfaceError e =
-        metrics::surfaceError(mesh, metrics::DistanceField(mesh), relief::reconstruct(model), 200000);
+        metrics::surfaceError(mesh, metrics::DistanceField(mesh), relief::reconstructPerFace(model), 200000);
     const double d = mesh.bounds().diagonal();
-    std::printf("error         rms %.4f%%, hausdorff %.4f%% of the diagonal (reconstruction vs mesh, "
-                "%.2f s to measure)\n",
+    std::printf("error         rms %.4f%%, hausdorff %.4f%% of the diagonal (the maps' samples, "
+                "joined per face, vs mesh; %.2f s to measure)\n",
                 100 * e.rms() / d, 100 * e.hausdorff() / d,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
@@ -125,16 +128,24 @@ int runConvert(const ConvertCli& o) {
 struct ReconstructCli {
   std::string model, output;
   int lod = 0;
+  relief::ReconstructionMethod method = relief::ReconstructionMethod::Auto;
+  std::string preview;
 };
 
 int runReconstruct(const ReconstructCli& o) {
   if (o.output.empty()) throw Error(ErrorKind::InvalidArgument, "reconstruct needs -o mesh.ply");
   const relief::ReliefModel model = relief::readRelief(o.model);
-  const TriangleMesh mesh = relief::reconstruct(model, o.lod);
+  const TriangleMesh mesh = relief::reconstruct(model, {o.lod, o.method});
   io::writeMesh(mesh, o.output);
-  std::printf("reconstructed %zu triangles, %zu vertices at level of detail %d (max %d); wrote %s\n",
+  const MeshTopology topology = analyzeTopology(mesh);
+  std::printf("reconstructed %zu triangles, %zu vertices at level of detail %d (max %d), %s, %zu boundary "
+              "edges; wrote %s\n",
               mesh.triangleCount(), mesh.vertexCount(), o.lod, relief::maxLevelOfDetail(model),
-              o.output.c_str());
+              topology.closed() ? "closed" : "open", topology.boundaryEdges, o.output.c_str());
+  if (!o.preview.empty()) {
+    writePreview(mesh, o.preview);
+    std::printf("wrote         %s\n", o.preview.c_str());
+  }
   return 0;
 }
 
@@ -172,6 +183,16 @@ Command addReconstructCommand(CLI::App& app) {
   cmd->add_option("model", o->model, "Relief model (.crm)")->required();
   cmd->add_option("-o,--output", o->output, "Mesh file to write")->required();
   cmd->add_option("--lod", o->lod, "Level of detail (0: every sample)")->capture_default_str();
+  const std::map<std::string, relief::ReconstructionMethod> methods{
+      {"auto", relief::ReconstructionMethod::Auto},
+      {"closed", relief::ReconstructionMethod::Closed},
+      {"per-face", relief::ReconstructionMethod::PerFace}};
+  cmd->add_option("--method", o->method,
+                  "auto: closed (the zero set of the model's field, no cracks) for a closed input, "
+                  "per-face for an open one; per-face: the paper's, each face's samples joined")
+      ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
+      ->default_str("auto");
+  cmd->add_option("--preview", o->preview, "Also write a picture of the mesh (PNG)");
   return {cmd, [o]() { return runReconstruct(*o); }};
 }
 

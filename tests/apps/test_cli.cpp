@@ -158,6 +158,17 @@ TEST(Cli, ConvertAndReconstruct) {
                           (dir / "spot.ply").string() + " --lod 1");
   ASSERT_EQ(back.status, 0) << back.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "spot.ply"));
+  // A closed input gives a closed reconstruction by default; the paper's per-face one has cracks.
+  EXPECT_TRUE(test::hasWords(back.output, "closed, 0 boundary edges")) << back.output;
+  const Result perFace = run("reconstruct " + (dir / "spot.crm").string() + " -o " +
+                             (dir / "spot_faces.ply").string() + " --method per-face");
+  ASSERT_EQ(perFace.status, 0) << perFace.output;
+  EXPECT_TRUE(test::hasWords(perFace.output, "open,")) << perFace.output;
+  const Result badMethod = run("reconstruct " + (dir / "spot.crm").string() + " -o " +
+                               (dir / "spot_bad.ply").string() + " --method marching");
+  EXPECT_NE(badMethod.status, 0);
+  EXPECT_TRUE(test::hasWords(badMethod.output, "per-face")) << badMethod.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "spot_bad.ply"));
   const Result bounded = run("convert " + mesh.string() + " -o " + (dir / "b.crm").string() +
                              " --max-error 0.002 --no-error");
   ASSERT_EQ(bounded.status, 0) << bounded.output;

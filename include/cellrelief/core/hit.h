@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "cellrelief/core/math.h"
 
@@ -29,8 +30,17 @@ struct Hit {
 using Hitf = Hit<float>;
 using Hitd = Hit<double>;
 
+/// How far outside a triangle, in barycentric coordinates, a hit still counts. Möller-Trumbore
+/// rounds the barycentrics of a point on an edge differently in the two triangles that share it,
+/// so a ray through the edge (a projection line aimed at a cube's edge, say) can miss both; the
+/// slack makes such rays hit one of them. It is far above the rounding of any triangle that is
+/// not degenerate and far below anything a sample could resolve.
+template <Real T>
+inline constexpr T kBarycentricSlack = std::is_same_v<T, float> ? T(1e-5) : T(1e-9);
+
 /// Möller-Trumbore ray/triangle test, for references and small analytic checks (the relief
 /// traversal never intersects triangles). Updates `hit` and returns true when a nearer hit is found.
+/// Watertight up to kBarycentricSlack: a ray through a shared edge or vertex hits a triangle.
 template <Real T>
 bool intersectTriangle(const Vec3<T>& origin, const Vec3<T>& direction, T tmin, const Vec3<T>& p0,
                        const Vec3<T>& p1, const Vec3<T>& p2, std::uint32_t primId,
@@ -43,10 +53,11 @@ bool intersectTriangle(const Vec3<T>& origin, const Vec3<T>& direction, T tmin, 
   const T invDet = T(1) / det;
   const Vec3<T> tv = origin - p0;
   const T u = glm::dot(tv, pv) * invDet;
-  if (u < T(0) || u > T(1)) return false;
+  constexpr T slack = kBarycentricSlack<T>;
+  if (u < -slack || u > T(1) + slack) return false;
   const Vec3<T> qv = glm::cross(tv, e1);
   const T v = glm::dot(direction, qv) * invDet;
-  if (v < T(0) || u + v > T(1)) return false;
+  if (v < -slack || u + v > T(1) + slack) return false;
   const T t = glm::dot(e2, qv) * invDet;
   if (t < tmin || t >= hit.t) return false;
   hit.t = t;

@@ -394,7 +394,7 @@ inline ReliefModel convertSlabByError(const TriangleMesh& input, const TriangleM
       break;  // the finest grid that fits is the answer
     }
     const double error =
-        metrics::surfaceError(input, inputField, reconstruct(model), 50000).hausdorff() / diagonal;
+        metrics::surfaceError(input, inputField, reconstructPerFace(model), 50000).hausdorff() / diagonal;
     rep.gridTrials.push_back({n, 0.0, complex->stats().grey,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - trialStart).count(),
                               error});

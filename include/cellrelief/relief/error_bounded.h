@@ -89,7 +89,8 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& input, const E
       if (e.kind() != ErrorKind::ResourceLimit) throw;
       continue;  // over the memory limit after all: skip it, keep what was measured
     }
-    const TriangleMesh rebuilt = reconstruct(model);
+    // The maps' own sampling error: the per-face mesh's vertices are the samples.
+    const TriangleMesh rebuilt = reconstructPerFace(model);
     const metrics::SurfaceError e = metrics::surfaceError(input, inputBvh, rebuilt, o.samplesPerSide);
     c.converted = true;
     c.bytes = model.byteSize();
