@@ -262,6 +262,10 @@ inline float latticeValue(const CellField& field, const CellNeighbourhood& n, co
   return float(colour == CellNeighbourhood::kInside ? field.emptyMagnitude() : -field.emptyMagnitude());
 }
 
+/// How far (lattice spacings) a vertex may move onto the stored surface: farther, the cell's
+/// projection line meets another sheet than the one the field crossed.
+inline constexpr double kMaxSnapSpacings = 1.5;
+
 /// Triangles of one cell's cubes, with their vertices keyed by lattice edge.
 struct ClosedPart {
   std::vector<std::uint64_t> keys;
@@ -323,36 +327,39 @@ class SignalLookup {
 };
 
 /// The zero crossing on lattice edge (in, out) at fraction t, moved along its projection line onto
-/// the surface the maps store, when the edge lies inside one grey cell (not in a face it shares
-/// with another grey cell, whose field the crossing also stands for) and the move is under one
-/// and a half lattice spacings. The crossing of the interpolated field is within a fraction of a
-/// spacing of the surface; the snapped vertex is on it, as the per-face method's vertices are.
+/// the surface the maps store, when the move is under one and a half lattice spacings. The
+/// crossing of the interpolated field is within a fraction of a spacing of the surface; the
+/// snapped vertex is on it, as the per-face method's vertices are. An edge in a face shared by
+/// several grey cells moves to the mean of their surface points (in a fixed order of the cells,
+/// so every cell computes the same bits): each cell stands for the surface there.
 inline std::optional<Vec3d> snapToSurface(const ReliefModel& model, const CellField& field, const CellNeighbourhood& n,
                                           const Vec3i& in, const Vec3i& out, double t) {
   const int m = field.cubes();
   const Vec3i twiceMid = in + out;
-  int owner = -1, owners = 0;
-  Vec3i ownerOffset(0);
+  Vec3d sum(0);
+  int count = 0;
   for (int z = (twiceMid.z == 0 ? -1 : 0); z <= (twiceMid.z == 2 * m ? 1 : 0); ++z)
     for (int y = (twiceMid.y == 0 ? -1 : 0); y <= (twiceMid.y == 2 * m ? 1 : 0); ++y)
-      for (int x = (twiceMid.x == 0 ? -1 : 0); x <= (twiceMid.x == 2 * m ? 1 : 0); ++x)
-        if (const int c = n.at({x, y, z}); c >= 0) {
-          owner = c;
-          ownerOffset = {x, y, z};
-          ++owners;
-        }
-  if (owners != 1) return std::nullopt;
-  const CellRecord& r = model.cells[std::size_t(owner)];
-  const auto proj = r.projection<double>();
-  const Vec3d unit = (Vec3d(in) + t * Vec3d(out - in)) / double(m) - Vec3d(ownerOffset);
-  const projection::FacePoint<double> fp = proj.project(glm::clamp(unit, Vec3d(0), Vec3d(1)));
-  const int layer = r.layerOf(fp.face);
-  if (layer < 0) return std::nullopt;
-  const std::optional<double> stored = field.smoothDistance(layer, fp.uv);
-  if (!stored) return std::nullopt;
-  const Vec3d onSurface = proj.unproject(fp.face, fp.uv, *stored);
-  if (glm::length(onSurface - unit) > 1.5 / m) return std::nullopt;
-  return model.toWorld(n.ijk + ownerOffset, onSurface);
+      for (int x = (twiceMid.x == 0 ? -1 : 0); x <= (twiceMid.x == 2 * m ? 1 : 0); ++x) {
+        const Vec3i d(x, y, z);
+        const int c = n.at(d);
+        if (c < 0) continue;
+        const CellRecord& r = model.cells[std::size_t(c)];
+        const auto proj = r.projection<double>();
+        // The crossing in the cell's unit coordinates, from global lattice coordinates.
+        const Vec3d unit = (Vec3d(in) + t * Vec3d(out - in)) / double(m) - Vec3d(d);
+        const projection::FacePoint<double> fp = proj.project(glm::clamp(unit, Vec3d(0), Vec3d(1)));
+        const int layer = r.layerOf(fp.face);
+        if (layer < 0) continue;
+        const std::optional<double> stored = field.smoothDistance(layer, fp.uv);
+        if (!stored) continue;
+        const Vec3d onSurface = proj.unproject(fp.face, fp.uv, *stored);
+        if (glm::length(onSurface - unit) > kMaxSnapSpacings / m) continue;
+        sum += model.toWorld(n.ijk + d, onSurface);
+        ++count;
+      }
+  if (count == 0) return std::nullopt;
+  return sum / double(count);
 }
 
 /// Polygonizes the cubes of the cell at the centre of n.
