@@ -106,8 +106,13 @@ bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum
   const std::filesystem::path& path = scratchFor(".crm").write(bytes.data(), bytes.size());
   try {
     const relief::ReliefModel model = relief::readRelief(path);
-    // A model that passed validation must be usable: rebuild it at the coarsest level of detail.
-    if (model.cells.size() <= 4096) (void)relief::reconstruct(model, relief::maxLevelOfDetail(model));
+    // A model that passed validation must be usable: rebuild it at the coarsest level of detail,
+    // by both methods (the closed one walks the neighbours of every cell).
+    if (model.cells.size() <= 4096) {
+      const int lod = relief::maxLevelOfDetail(model);
+      (void)relief::reconstruct(model, {lod, relief::ReconstructionMethod::PerFace});
+      (void)relief::reconstruct(model, {lod, relief::ReconstructionMethod::Closed});
+    }
     return true;
   } catch (const Error&) {
     return false;
