@@ -149,10 +149,13 @@ class CellColours {
   std::unordered_map<std::uint32_t, int> mColour;
 };
 
-/// The signed field of one grey cell at lattice points, positive inside (the tracer's sign).
+/// The signed field of one grey cell at lattice points, positive inside (the tracer's sign and
+/// rule). Interior cells (case 0) read it as the tracer does, misreads included: a line whose face
+/// point lies on the centre's side is taken to start on the other side, which makes the spurious
+/// handles measured in docs/relief.md; the remedy belongs in the conversion.
 class CellField {
  public:
-  CellField(const ReliefModel& model, int step) : mModel(model), mStep(step), mCubes((model.texels - 1) / step) {}
+  CellField(const ReliefModel& model, int step) : mModel(model), mCubes((model.texels - 1) / step) {}
 
   /// Cubes per cell side.
   int cubes() const { return mCubes; }
@@ -230,7 +233,6 @@ class CellField {
 
  private:
   const ReliefModel& mModel;
-  int mStep = 1;
   int mCubes = 1;
 };
 
