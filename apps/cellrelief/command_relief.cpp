@@ -188,8 +188,9 @@ Command addReconstructCommand(CLI::App& app) {
       {"closed", relief::ReconstructionMethod::Closed},
       {"per-face", relief::ReconstructionMethod::PerFace}};
   cmd->add_option("--method", o->method,
-                  "auto: closed (the zero set of the model's field, no cracks) for a closed input, "
-                  "per-face for an open one; per-face: the paper's, each face's samples joined")
+                  "auto: closed (the zero set of the model's field, no cracks) for a closed input "
+                  "of several cells, per-face for an open, single-cell or thin one; per-face: the "
+                  "paper's, each face's samples joined")
       ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
       ->default_str("auto");
   cmd->add_option("--preview", o->preview, "Also write a picture of the mesh (PNG)");

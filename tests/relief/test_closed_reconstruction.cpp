@@ -23,11 +23,9 @@
 namespace cellrelief {
 namespace {
 
-// Each lattice edge of the Kuhn triangulation inside a cube is used by an even number of
-// triangles of a sign pattern's surface, except edges on the cube's faces; summed over all
-// patterns, each triangle's edges pair up: checked here as "every interior crossing edge is
-// shared by exactly two triangles" for every pattern of one cube, and a closed surface for a
-// random field on a lattice.
+// Every pattern but all-in and all-out has triangles, and each triangle's vertices lie on edges
+// from an inside corner to an outside one; closedness and orientation across cubes are checked
+// on a random field below.
 TEST(MarchingTetrahedra, EveryPatternIsOrientedAwayFromTheInside) {
   for (int mask = 1; mask < 255; ++mask) {
     const CubeTriangles& t = kMarchingTetrahedraTable[std::size_t(mask)];
@@ -132,6 +130,40 @@ TEST(ClosedReconstruction, TorusIsClosedWithGenusOne) {
       EXPECT_NEAR(signedVolume(rebuilt), analytic, 0.02 * analytic);
     }
   }
+}
+
+// A surface on the grid's outer boundary (the cube at N = 2 fills it) closes within the grid:
+// boundary points read outside whatever the projection's rounding.
+TEST(ClosedReconstruction, SurfaceOnTheGridBoundaryCloses) {
+  TriangleMesh box;
+  box.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  box.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                   {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  for (const int texels : {10, 17}) {
+    relief::ConvertOptions options;
+    options.gridSize = 2;
+    options.texels = texels;
+    const relief::ReliefModel model = relief::convert(box, options);
+    const TriangleMesh rebuilt = relief::reconstruct(model, {0, relief::ReconstructionMethod::Closed});
+    const MeshTopology topo = analyzeTopology(rebuilt);
+    SCOPED_TRACE("T = " + std::to_string(texels));
+    EXPECT_EQ(topo.boundaryEdges, 0u);
+    EXPECT_TRUE(topo.manifold());
+    EXPECT_EQ(topo.genus, std::optional<int>(0));
+    EXPECT_NEAR(signedVolume(rebuilt), 1.0, 0.05);
+  }
+}
+
+// A lattice beyond what the edge keys address or the cube budget allows is refused (Auto then
+// takes the per-face method).
+TEST(ClosedReconstruction, OversizedLatticeIsRefused) {
+  relief::ReliefModel model;
+  model.gridSize = 1024;
+  model.texels = 1025;
+  EXPECT_THROW(relief::checkLatticeSize(model, 1024, 1), Error);
+  model.gridSize = 8;
+  EXPECT_THROW(relief::checkLatticeSize(model, 64, 1025), Error);
+  EXPECT_NO_THROW(relief::checkLatticeSize(model, 64, 1000));
 }
 
 // An open input keeps the per-face method under Auto (the field would close its holes).

@@ -13,9 +13,9 @@
 /// - every lattice point has one value: a point shared by several grey cells (on their common
 ///   face, edge or corner) takes the mean of their fields, summed in a fixed order of the cells so
 ///   every cell computes the same bits;
-/// - points of white and black cells take a constant of their colour, and the white and black
+/// - points of white and black cells take a constant of their color, and the white and black
 ///   cells around the grey ones are polygonized too, so a surface that reaches a cell face where
-///   the neighbour's colour disagrees closes in that neighbour's first layer of cubes;
+///   the neighbour's color disagrees closes in that neighbour's first layer of cubes;
 /// - vertices are welded by lattice edge, never by position.
 /// The result is then a closed, oriented 2-manifold by construction (a regular level set of a
 /// piecewise-linear field); its genus is the field's.
@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "cellrelief/core/aabb.h"
+#include "cellrelief/core/error.h"
 #include "cellrelief/core/marching_tetrahedra.h"
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/core/triangle_mesh.h"
@@ -51,21 +52,21 @@ namespace cellrelief::relief {
 namespace detail {
 
 /// Which cells surround a cell: for each of the 27 offsets (-1..1)^3, a grey cell's index, or the
-/// colour of a white or black one.
+/// color of a white or black one.
 struct CellNeighbourhood {
   static constexpr int kOutside = -1;  ///< white, or beyond the grid
   static constexpr int kInside = -2;   ///< black
-  static constexpr int kUnknown = -3;  ///< not next to any grey cell (its colour is never needed)
+  static constexpr int kUnknown = -3;  ///< not next to any grey cell (its color is never needed)
   Vec3i ijk{0};
   std::array<int, 27> cell{};
   static int slot(const Vec3i& d) { return (d.z + 1) * 9 + (d.y + 1) * 3 + (d.x + 1); }
   int at(const Vec3i& d) const { return cell[std::size_t(slot(d))]; }
 };
 
-/// The grey cells by coordinates, and the colour of every white or black cell that touches one.
-class CellColours {
+/// The grey cells by coordinates, and the color of every white or black cell that touches one.
+class CellColors {
  public:
-  explicit CellColours(const ReliefModel& model) : mGridSize(model.gridSize) {
+  explicit CellColors(const ReliefModel& model) : mGridSize(model.gridSize) {
     mGrey.reserve(model.cells.size());
     for (std::size_t i = 0; i < model.cells.size(); ++i) mGrey.emplace(pack(model.cells[i].ijk()), int(i));
     classifyFaceNeighbours(model);
@@ -75,11 +76,11 @@ class CellColours {
   bool inGrid(const Vec3i& p) const {
     return p.x >= 0 && p.y >= 0 && p.z >= 0 && p.x < mGridSize && p.y < mGridSize && p.z < mGridSize;
   }
-  /// A grey cell's index, or one of CellNeighbourhood's colours.
+  /// A grey cell's index, or one of CellNeighbourhood's colors.
   int classify(const Vec3i& p) const {
     if (!inGrid(p)) return CellNeighbourhood::kOutside;
     if (const auto it = mGrey.find(pack(p)); it != mGrey.end()) return it->second;
-    if (const auto it = mColour.find(pack(p)); it != mColour.end()) return it->second;
+    if (const auto it = mColor.find(pack(p)); it != mColor.end()) return it->second;
     return CellNeighbourhood::kUnknown;
   }
   CellNeighbourhood neighbourhood(const Vec3i& ijk) const {
@@ -93,8 +94,8 @@ class CellColours {
   /// The white and black cells of the grid that touch a grey cell (by a face, edge or corner).
   std::vector<Vec3i> shell() const {
     std::vector<Vec3i> cells;
-    cells.reserve(mColour.size());
-    for (const auto& [key, colour] : mColour) cells.push_back(unpack(key));
+    cells.reserve(mColor.size());
+    for (const auto& [key, color] : mColor) cells.push_back(unpack(key));
     std::sort(cells.begin(), cells.end(), [](const Vec3i& a, const Vec3i& b) {
       return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });
@@ -106,8 +107,8 @@ class CellColours {
   static Vec3i unpack(std::uint32_t key) { return {int(key & 1023u), int((key >> 10) & 1023u), int((key >> 20) & 1023u)}; }
 
   /// A grey cell's configuration is the mask of its faces shared with white cells (or the grid's
-  /// outside), so its face neighbours' colours are known; its edge and corner neighbours are
-  /// recorded, colour unknown yet.
+  /// outside), so its face neighbours' colors are known; its edge and corner neighbours are
+  /// recorded, color unknown yet.
   void classifyFaceNeighbours(const ReliefModel& model) {
     for (const CellRecord& r : model.cells)
       for (int z = -1; z <= 1; ++z)
@@ -115,38 +116,40 @@ class CellColours {
           for (int x = -1; x <= 1; ++x) {
             const Vec3i d(x, y, z), p = r.ijk() + d;
             if (!inGrid(p) || mGrey.count(pack(p))) continue;
-            int& colour = mColour.try_emplace(pack(p), CellNeighbourhood::kUnknown).first->second;
-            if (std::abs(x) + std::abs(y) + std::abs(z) != 1 || colour != CellNeighbourhood::kUnknown) continue;
+            int& color = mColor.try_emplace(pack(p), CellNeighbourhood::kUnknown).first->second;
+            if (std::abs(x) + std::abs(y) + std::abs(z) != 1 || color != CellNeighbourhood::kUnknown) continue;
             const int axis = x != 0 ? 0 : y != 0 ? 1 : 2;
             const int face = cells::makeFace(axis, d[axis]);
-            colour = (r.configuration >> face) & 1u ? CellNeighbourhood::kOutside : CellNeighbourhood::kInside;
+            color = (r.configuration >> face) & 1u ? CellNeighbourhood::kOutside : CellNeighbourhood::kInside;
           }
   }
-  /// White and black cells never share a face, so a cell of unknown colour takes the colour of a
+  /// White and black cells never share a face, so a cell of unknown color takes the color of a
   /// white or black face neighbour. Every edge or corner neighbour of a grey cell is reached in
   /// at most two such steps; any cell left (none in a consistent complex) is taken as white.
   void propagateAcrossFaces() {
     for (bool changed = true; changed;) {
       changed = false;
-      for (auto& [key, colour] : mColour) {
-        if (colour != CellNeighbourhood::kUnknown) continue;
+      for (auto& [key, color] : mColor) {
+        if (color != CellNeighbourhood::kUnknown) continue;
         const Vec3i p = unpack(key);
-        for (int f = 0; f < cells::kFaceCount && colour == CellNeighbourhood::kUnknown; ++f) {
-          const auto it = mColour.find(pack(p + cells::faceNormal(f)));
-          if (inGrid(p + cells::faceNormal(f)) && it != mColour.end() && it->second != CellNeighbourhood::kUnknown) {
-            colour = it->second;
+        for (int f = 0; f < cells::kFaceCount && color == CellNeighbourhood::kUnknown; ++f) {
+          const Vec3i q = p + cells::faceNormal(f);
+          if (!inGrid(q)) continue;  // before packing: a coordinate of 1024 would alias another cell
+          const auto it = mColor.find(pack(q));
+          if (it != mColor.end() && it->second != CellNeighbourhood::kUnknown) {
+            color = it->second;
             changed = true;
           }
         }
       }
     }
-    for (auto& [key, colour] : mColour)
-      if (colour == CellNeighbourhood::kUnknown) colour = CellNeighbourhood::kOutside;
+    for (auto& [key, color] : mColor)
+      if (color == CellNeighbourhood::kUnknown) color = CellNeighbourhood::kOutside;
   }
 
   int mGridSize = 0;
   std::unordered_map<std::uint32_t, int> mGrey;
-  std::unordered_map<std::uint32_t, int> mColour;
+  std::unordered_map<std::uint32_t, int> mColor;
 };
 
 /// The signed field of one grey cell at lattice points, positive inside (the tracer's sign and
@@ -159,6 +162,7 @@ class CellField {
 
   /// Cubes per cell side.
   int cubes() const { return mCubes; }
+  int gridSize() const { return mModel.gridSize; }
   /// The value standing for "no surface on this line": one lattice spacing, in cell units.
   double emptyMagnitude() const { return 1.0 / mCubes; }
 
@@ -238,7 +242,7 @@ class CellField {
 
 /// The one value of a lattice point, given as a local point (0..cubes() per axis) of the cell at
 /// the centre of `n`: the mean of the grey cells that contain it, in a fixed order of the cells
-/// (so the bits do not depend on which cell asks); with no grey cell, the colour of the others.
+/// (so the bits do not depend on which cell asks); with no grey cell, the color of the others.
 inline float latticeValue(const CellField& field, const CellNeighbourhood& n, const Vec3i& local) {
   const int m = field.cubes();
   int lo[3], hi[3];
@@ -247,7 +251,7 @@ inline float latticeValue(const CellField& field, const CellNeighbourhood& n, co
     hi[a] = local[a] == m ? 1 : 0;
   }
   double sum = 0;
-  int count = 0, colour = CellNeighbourhood::kUnknown;
+  int count = 0, color = CellNeighbourhood::kUnknown;
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
@@ -256,12 +260,20 @@ inline float latticeValue(const CellField& field, const CellNeighbourhood& n, co
         if (c >= 0) {
           sum += field.at(c, local - d * m);
           ++count;
-        } else if (colour == CellNeighbourhood::kUnknown) {
-          colour = c;
+        } else if (color == CellNeighbourhood::kUnknown) {
+          color = c;
         }
       }
-  if (count > 0) return float(sum / count);
-  return float(colour == CellNeighbourhood::kInside ? field.emptyMagnitude() : -field.emptyMagnitude());
+  float value = count > 0 ? float(sum / count)
+                          : float(color == CellNeighbourhood::kInside ? field.emptyMagnitude() : -field.emptyMagnitude());
+  // Nothing beyond the grid is polygonized, so its boundary must read outside to close the
+  // surface there. Its points lie on external domain faces (distance 0, outside), but the
+  // projection's rounding can leave a positive 1e-17: the rule makes it exact.
+  const Vec3i global = n.ijk * m + local;
+  const int last = field.gridSize() * m;
+  for (int a = 0; a < 3; ++a)
+    if (global[a] == 0 || global[a] == last) value = std::min(value, 0.0f);
+  return value;
 }
 
 /// How far (lattice spacings) a vertex may move onto the stored surface: farther, the cell's
@@ -279,7 +291,8 @@ struct ClosedPart {
 };
 
 /// Shading signals of a vertex from the maps: the nearest filled sample (within two samples) of
-/// the first grey cell, among those holding the vertex's lattice edge, whose map has one there.
+/// the first grey cell, among those holding an end point of the vertex's lattice edge, whose map
+/// has one there.
 class SignalLookup {
  public:
   explicit SignalLookup(const ReliefModel& model) : mModel(model) {}
@@ -332,8 +345,8 @@ class SignalLookup {
 /// the surface the maps store, when the move is under one and a half lattice spacings. The
 /// crossing of the interpolated field is within a fraction of a spacing of the surface; the
 /// snapped vertex is on it, as the per-face method's vertices are. An edge in a face shared by
-/// several grey cells moves to the mean of their surface points (in a fixed order of the cells,
-/// so every cell computes the same bits): each cell stands for the surface there.
+/// several grey cells moves to the mean of their surface points (each cell stands for the
+/// surface there); cells that hold the edge compute it up to rounding, and welding keeps one.
 inline std::optional<Vec3d> snapToSurface(const ReliefModel& model, const CellField& field, const CellNeighbourhood& n,
                                           const Vec3i& in, const Vec3i& out, double t) {
   const int m = field.cubes();
@@ -445,7 +458,7 @@ inline void dropSpeckles(TriangleMesh& mesh, double maxExtent) {
     return root != largest && std::max({extent.x, extent.y, extent.z}) <= maxExtent;
   };
   std::erase_if(mesh.triangles, [&](const Vec3u& t) { return speckle(sets.find(t[0])); });
-  // Compact the vertices the remaining triangles use.
+  // Renumber the vertices the remaining triangles use, so no unreferenced vertex is written.
   std::vector<std::uint32_t> newIndex(mesh.positions.size(), ~0u);
   std::uint32_t next = 0;
   for (Vec3u& t : mesh.triangles)
@@ -508,31 +521,45 @@ inline TriangleMesh weldParts(const ReliefModel& model, const std::vector<Closed
     for (std::size_t v = 0; v < mesh.normals.size(); ++v)
       if (!hasSignal[v]) mesh.normals[v] = geometric[v];
   }
-  mesh.sourcePolygons = mesh.triangles.size();
   return mesh;
 }
 
 }  // namespace detail
 
+/// Refuses lattices the edge keys cannot address (2^20 points a side) or larger than
+/// kMaxLatticeCubes cubes over the cells polygonized (about 2^28: tens of seconds, gigabytes of
+/// triangles); a coarser level of detail or the per-face method serves such models.
+inline constexpr double kMaxLatticeCubes = double(1u << 28);
+inline void checkLatticeSize(const ReliefModel& model, int cubes, std::size_t cells) {
+  const double total = double(cells) * double(cubes) * double(cubes) * double(cubes);
+  if (double(model.gridSize) * cubes >= double(1u << 20) || total > kMaxLatticeCubes)
+    throw Error(ErrorKind::ResourceLimit,
+                "the closed reconstruction's lattice (" + std::to_string(cells) + " cells of " +
+                    std::to_string(cubes) + "^3 cubes) is too large; use a coarser level of detail "
+                    "or the per-face method");
+}
+
 /// The closed reconstruction at level of detail `lod` (every 2^lod-th sample; the caller checks
 /// the range). See the file comment.
 inline TriangleMesh reconstructClosed(const ReliefModel& model, int lod = 0) {
+  checkLevelOfDetail(model, lod);
   constexpr double kSpeckleSpacings = 3.0;  // lattice spacings: see dropSpeckles
-  const detail::CellColours colours(model);
+  const detail::CellColors colors(model);
   const detail::CellField field(model, 1 << lod);
   const detail::SignalLookup signals(model);
   // The grey cells and the white and black cells around them, where the surface can close.
   std::vector<Vec3i> cells;
   cells.reserve(model.cells.size());
   for (const CellRecord& r : model.cells) cells.push_back(r.ijk());
-  const std::vector<Vec3i> shell = colours.shell();
+  const std::vector<Vec3i> shell = colors.shell();
   cells.insert(cells.end(), shell.begin(), shell.end());
+  checkLatticeSize(model, field.cubes(), cells.size());
   std::vector<detail::ClosedPart> parts(cells.size());
   parallelForRange(0, cells.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<float> values;
     std::unordered_map<std::uint64_t, std::uint32_t> vertexOf;
     for (std::size_t i = begin; i < end; ++i)
-      detail::polygonizeCell(model, field, signals, colours.neighbourhood(cells[i]), values, vertexOf, parts[i]);
+      detail::polygonizeCell(model, field, signals, colors.neighbourhood(cells[i]), values, vertexOf, parts[i]);
   }, 8);
   TriangleMesh mesh = detail::weldParts(model, parts);
   detail::dropSpeckles(mesh, kSpeckleSpacings * model.cellSizeWS / field.cubes());

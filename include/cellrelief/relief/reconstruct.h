@@ -31,15 +31,8 @@
 
 namespace cellrelief::relief {
 
-/// The largest level of detail: samples are taken every 2^L, so (T - 1) must divide by 2^L.
-inline int maxLevelOfDetail(const ReliefModel& model) {
-  int level = 0;
-  while (((model.texels - 1) % (2 << level)) == 0 && (model.texels - 1) / (2 << level) >= 1) ++level;
-  return level;
-}
-
 enum class ReconstructionMethod {
-  Auto,     ///< Closed for a model of a closed input, PerFace for an open one
+  Auto,     ///< Closed for a model of a closed input, PerFace for an open one (details: reconstruct())
   Closed,   ///< the zero set of the inside/outside field (closed_reconstruction.h)
   PerFace,  ///< the paper's: each face's samples joined into triangles
 };
@@ -48,14 +41,6 @@ struct ReconstructOptions {
   int levelOfDetail = 0;  ///< every 2^L-th sample, 0..maxLevelOfDetail(model)
   ReconstructionMethod method = ReconstructionMethod::Auto;
 };
-
-inline void checkLevelOfDetail(const ReliefModel& model, int lod) {
-  if (lod < 0 || lod > maxLevelOfDetail(model))
-    throw Error(ErrorKind::InvalidArgument,
-                "level of detail " + std::to_string(lod) + " is out of range (0 to " +
-                    std::to_string(maxLevelOfDetail(model)) + " for T = " +
-                    std::to_string(model.texels) + ")");
-}
 
 /// The paper's reconstruction: each face's samples joined into triangles (see the file comment).
 inline TriangleMesh reconstructPerFace(const ReliefModel& model, int lod = 0) {
@@ -167,12 +152,19 @@ inline TriangleMesh reconstructPerFace(const ReliefModel& model, int lod = 0) {
   return mesh;
 }
 
+/// Bounds of the closed mesh's area over the per-face mesh's that Auto accepts: the per-face
+/// mesh lacks its cracks (1.05 to 1.23 on the closed meshes of the test data); outside them,
+/// surface thinner than a lattice spacing was lost between the lattice points or doubled across
+/// it (a flat input's slab measured 2.1), and the samples still hold it.
+inline constexpr double kMinClosedAreaRatio = 0.9;
+inline constexpr double kMaxClosedAreaRatio = 1.5;
+
 /// Auto: the per-face method for an open input; for a closed one, the per-face mesh where it is
 /// already closed and manifold (a single grey cell, whose faces weld along their shared edges:
 /// its vertices are the samples themselves, the most accurate), else the closed method, unless
-/// its area and the per-face mesh's disagree beyond kClosedAreaRatio (surface thinner than the
-/// lattice was lost or doubled).
-inline constexpr double kClosedAreaRatio[2] = {0.9, 1.5};
+/// its area falls outside kMinClosedAreaRatio..kMaxClosedAreaRatio of the per-face mesh's, its
+/// lattice is too large (checkLatticeSize) or it is not closed after all (a defect: the per-face
+/// mesh is then the safer answer).
 inline TriangleMesh reconstruct(const ReliefModel& model, const ReconstructOptions& options) {
   checkLevelOfDetail(model, options.levelOfDetail);
   const int lod = options.levelOfDetail;
@@ -187,13 +179,16 @@ inline TriangleMesh reconstruct(const ReliefModel& model, const ReconstructOptio
     const MeshTopology topology = analyzeTopology(perFace);
     if (topology.closed() && topology.manifold() && topology.oriented()) return perFace;
   }
-  TriangleMesh closed = reconstructClosed(model, lod);
-  // The closed mesh covers about the surface the samples hold: the per-face mesh lacks its cracks
-  // (closed / per-face area 1.05 to 1.23 on the closed meshes of the test data). Outside the
-  // bounds, surface thinner than a lattice spacing was lost between the lattice points or
-  // doubled across it (a flat input's slab measured 2.1); the samples still hold it.
+  TriangleMesh closed;
+  try {
+    closed = reconstructClosed(model, lod);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::ResourceLimit) throw;
+    return perFace;
+  }
   const double ratio = surfaceArea(closed) / surfaceArea(perFace);
-  if (!(ratio >= kClosedAreaRatio[0] && ratio <= kClosedAreaRatio[1])) return perFace;
+  if (!(ratio >= kMinClosedAreaRatio && ratio <= kMaxClosedAreaRatio)) return perFace;
+  if (analyzeTopology(closed).boundaryEdges != 0) return perFace;
   return closed;
 }
 

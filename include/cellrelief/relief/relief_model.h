@@ -21,9 +21,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "cellrelief/cells/configuration.h"
+#include "cellrelief/core/error.h"
 #include "cellrelief/core/image.h"
 #include "cellrelief/core/math.h"
 #include "cellrelief/projection/choice.h"
@@ -173,5 +175,21 @@ struct ReliefModel {
     return std::any_of(cells.begin(), cells.end(), [](const CellRecord& r) { return r.openSurface(); });
   }
 };
+
+/// The largest level of detail: samples are taken every 2^L, so (T - 1) must divide by 2^L.
+inline int maxLevelOfDetail(const ReliefModel& model) {
+  int level = 0;
+  while (((model.texels - 1) % (2 << level)) == 0 && (model.texels - 1) / (2 << level) >= 1) ++level;
+  return level;
+}
+
+/// Throws InvalidArgument unless 0 <= lod <= maxLevelOfDetail(model).
+inline void checkLevelOfDetail(const ReliefModel& model, int lod) {
+  if (lod < 0 || lod > maxLevelOfDetail(model))
+    throw Error(ErrorKind::InvalidArgument,
+                "level of detail " + std::to_string(lod) + " is out of range (0 to " +
+                    std::to_string(maxLevelOfDetail(model)) + " for T = " +
+                    std::to_string(model.texels) + ")");
+}
 
 }  // namespace cellrelief::relief
