@@ -26,6 +26,13 @@ namespace {
 // Every pattern but all-in and all-out has triangles, and each triangle's vertices lie on edges
 // from an inside corner to an outside one; closedness and orientation across cubes are checked
 // on a random field below.
+double signedVolume(const TriangleMesh& mesh) {
+  double v = 0;
+  for (const Vec3u& t : mesh.triangles)
+    v += glm::dot(Vec3d(mesh.positions[t[0]]), glm::cross(Vec3d(mesh.positions[t[1]]), Vec3d(mesh.positions[t[2]])));
+  return v / 6;
+}
+
 TEST(MarchingTetrahedra, EveryPatternIsOrientedAwayFromTheInside) {
   for (int mask = 1; mask < 255; ++mask) {
     const CubeTriangles& t = kMarchingTetrahedraTable[std::size_t(mask)];
@@ -55,7 +62,10 @@ TEST(MarchingTetrahedra, RandomFieldGivesAClosedOrientedManifold) {
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         std::array<float, 8> c;
-        for (int k = 0; k < 8; ++k) c[std::size_t(k)] = value(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
+        for (int k = 0; k < 8; ++k) {
+          const Vec3i p = Vec3i(x, y, z) + cubeCorner(k);
+          c[std::size_t(k)] = value(p.x, p.y, p.z);
+        }
         const CubeTriangles& t = kMarchingTetrahedraTable[std::size_t(insideMask(c))];
         for (int k = 0; k < t.count; ++k) {
           Vec3u tri;
@@ -64,8 +74,7 @@ TEST(MarchingTetrahedra, RandomFieldGivesAClosedOrientedManifold) {
             const std::uint64_t key = latticeEdgeKey({x, y, z}, e.inside, e.outside);
             const auto [it, inserted] = vertexOf.try_emplace(key, std::uint32_t(mesh.positions.size()));
             if (inserted) {
-              const Vec3f in(x + (e.inside & 1), y + ((e.inside >> 1) & 1), z + ((e.inside >> 2) & 1));
-              const Vec3f out(x + (e.outside & 1), y + ((e.outside >> 1) & 1), z + ((e.outside >> 2) & 1));
+              const Vec3f in(Vec3i(x, y, z) + cubeCorner(e.inside)), out(Vec3i(x, y, z) + cubeCorner(e.outside));
               const float s = zeroCrossing(c[e.inside], c[e.outside]);
               mesh.positions.push_back(in + s * (out - in));
             }
@@ -81,18 +90,7 @@ TEST(MarchingTetrahedra, RandomFieldGivesAClosedOrientedManifold) {
   EXPECT_EQ(topo.misorientedEdges, 0u);
   EXPECT_EQ(topo.degenerateTriangles, 0u);
   // Outward: the signed volume of the closed surface is positive.
-  double volume = 0;
-  for (const Vec3u& t : mesh.triangles)
-    volume += glm::dot(Vec3d(mesh.positions[t[0]]),
-                       glm::cross(Vec3d(mesh.positions[t[1]]), Vec3d(mesh.positions[t[2]])));
-  EXPECT_GT(volume, 0);
-}
-
-double signedVolume(const TriangleMesh& mesh) {
-  double v = 0;
-  for (const Vec3u& t : mesh.triangles)
-    v += glm::dot(Vec3d(mesh.positions[t[0]]), glm::cross(Vec3d(mesh.positions[t[1]]), Vec3d(mesh.positions[t[2]])));
-  return v / 6;
+  EXPECT_GT(signedVolume(mesh), 0);
 }
 
 struct Measured {

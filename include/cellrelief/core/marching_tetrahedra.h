@@ -118,12 +118,14 @@ inline int insideMask(const std::array<float, 8>& values) {
   return mask;
 }
 
+/// The offset of cube corner c from corner 0.
+inline Vec3i cubeCorner(int c) { return {c & 1, (c >> 1) & 1, (c >> 2) & 1}; }
+
 /// A key for the lattice edge of the triangulation between cube corners a and b of the cube whose
 /// corner 0 is lattice point `base` (coordinates below 2^20): the lower end point and the edge's
 /// direction (a non-zero 0/1 vector; every edge of the Kuhn triangulation is monotone).
 inline std::uint64_t latticeEdgeKey(const Vec3i& base, int a, int b) {
-  auto offset = [](int c) { return Vec3i(c & 1, (c >> 1) & 1, (c >> 2) & 1); };
-  const Vec3i pa = base + offset(a), pb = base + offset(b);
+  const Vec3i pa = base + cubeCorner(a), pb = base + cubeCorner(b);
   const Vec3i lower = glm::min(pa, pb);
   const Vec3i direction = glm::abs(pb - pa);
   return (std::uint64_t(lower.x) << 43) | (std::uint64_t(lower.y) << 23) | (std::uint64_t(lower.z) << 3) |

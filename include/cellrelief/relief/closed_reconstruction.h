@@ -240,21 +240,29 @@ class CellField {
   int mCubes = 1;
 };
 
+/// The offsets (-1..1 per axis) of the cells whose closure holds a lattice point given in the
+/// local coordinates of a cell `side` units wide: -1 where it lies on the low face, +1 on the high.
+struct HoldingCells {
+  Vec3i lo{0}, hi{0};
+  HoldingCells(const Vec3i& point, int side) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = point[a] == 0 ? -1 : 0;
+      hi[a] = point[a] == side ? 1 : 0;
+    }
+  }
+};
+
 /// The one value of a lattice point, given as a local point (0..cubes() per axis) of the cell at
 /// the centre of `n`: the mean of the grey cells that contain it, in a fixed order of the cells
 /// (so the bits do not depend on which cell asks); with no grey cell, the color of the others.
 inline float latticeValue(const CellField& field, const CellNeighbourhood& n, const Vec3i& local) {
   const int m = field.cubes();
-  int lo[3], hi[3];
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = local[a] == 0 ? -1 : 0;
-    hi[a] = local[a] == m ? 1 : 0;
-  }
+  const HoldingCells holding(local, m);
   double sum = 0;
   int count = 0, color = CellNeighbourhood::kUnknown;
-  for (int z = lo[2]; z <= hi[2]; ++z)
-    for (int y = lo[1]; y <= hi[1]; ++y)
-      for (int x = lo[0]; x <= hi[0]; ++x) {
+  for (int z = holding.lo.z; z <= holding.hi.z; ++z)
+    for (int y = holding.lo.y; y <= holding.hi.y; ++y)
+      for (int x = holding.lo.x; x <= holding.hi.x; ++x) {
         const Vec3i d(x, y, z);
         const int c = n.at(d);
         if (c >= 0) {
@@ -303,16 +311,18 @@ class SignalLookup {
   bool find(const CellField& field, const CellNeighbourhood& n, const Vec3d& latticePoint,
             const std::array<Vec3i, 2>& ends, Vec3f& normal, Color8& color) const {
     const int m = field.cubes();
-    for (const Vec3i& end : ends)
-      for (int z = (end.z == 0 ? -1 : 0); z <= (end.z == m ? 1 : 0); ++z)
-        for (int y = (end.y == 0 ? -1 : 0); y <= (end.y == m ? 1 : 0); ++y)
-          for (int x = (end.x == 0 ? -1 : 0); x <= (end.x == m ? 1 : 0); ++x) {
+    for (const Vec3i& end : ends) {
+      const HoldingCells holding(end, m);
+      for (int z = holding.lo.z; z <= holding.hi.z; ++z)
+        for (int y = holding.lo.y; y <= holding.hi.y; ++y)
+          for (int x = holding.lo.x; x <= holding.hi.x; ++x) {
             const Vec3i d(x, y, z);
             const int c = n.at(d);
             if (c < 0) continue;
             const Vec3d unit = glm::clamp(latticePoint / double(m) - Vec3d(d), Vec3d(0), Vec3d(1));
             if (sampleAt(mModel.cells[std::size_t(c)], unit, normal, color)) return true;
           }
+    }
     return false;
   }
 
@@ -350,12 +360,12 @@ class SignalLookup {
 inline std::optional<Vec3d> snapToSurface(const ReliefModel& model, const CellField& field, const CellNeighbourhood& n,
                                           const Vec3i& in, const Vec3i& out, double t) {
   const int m = field.cubes();
-  const Vec3i twiceMid = in + out;
+  const HoldingCells holding(in + out, 2 * m);  // the edge's midpoint, in half spacings
   Vec3d sum(0);
   int count = 0;
-  for (int z = (twiceMid.z == 0 ? -1 : 0); z <= (twiceMid.z == 2 * m ? 1 : 0); ++z)
-    for (int y = (twiceMid.y == 0 ? -1 : 0); y <= (twiceMid.y == 2 * m ? 1 : 0); ++y)
-      for (int x = (twiceMid.x == 0 ? -1 : 0); x <= (twiceMid.x == 2 * m ? 1 : 0); ++x) {
+  for (int z = holding.lo.z; z <= holding.hi.z; ++z)
+    for (int y = holding.lo.y; y <= holding.hi.y; ++y)
+      for (int x = holding.lo.x; x <= holding.hi.x; ++x) {
         const Vec3i d(x, y, z);
         const int c = n.at(d);
         if (c < 0) continue;
@@ -392,8 +402,7 @@ inline void polygonizeCell(const ReliefModel& model, const CellField& field, con
   const Vec3i base = n.ijk * m;  // the cell's first lattice point, globally
   const double spacing = model.cellSizeWS / m;
   auto vertex = [&](const Vec3i& cube, const CubeEdge& e) -> std::uint32_t {
-    auto offset = [](int corner) { return Vec3i(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1); };
-    const Vec3i in = cube + offset(e.inside), out = cube + offset(e.outside);
+    const Vec3i in = cube + cubeCorner(e.inside), out = cube + cubeCorner(e.outside);
     const std::uint64_t key = latticeEdgeKey(base + cube, e.inside, e.outside);
     const auto [it, inserted] = vertexOf.try_emplace(key, std::uint32_t(part.positions.size()));
     if (!inserted) return it->second;
@@ -421,7 +430,10 @@ inline void polygonizeCell(const ReliefModel& model, const CellField& field, con
     for (int b = 0; b < m; ++b)
       for (int a = 0; a < m; ++a) {
         std::array<float, 8> corner;
-        for (int k = 0; k < 8; ++k) corner[std::size_t(k)] = values[flat(a + (k & 1), b + ((k >> 1) & 1), c + ((k >> 2) & 1))];
+        for (int k = 0; k < 8; ++k) {
+          const Vec3i p = Vec3i(a, b, c) + cubeCorner(k);
+          corner[std::size_t(k)] = values[flat(p.x, p.y, p.z)];
+        }
         const CubeTriangles& cubeTriangles = kMarchingTetrahedraTable[std::size_t(insideMask(corner))];
         const Vec3i cube(a, b, c);
         for (int t = 0; t < cubeTriangles.count; ++t) {
