@@ -7,7 +7,7 @@ set -euo pipefail
 # Required: the core, io and the command line. Optional ones (CELLRELIEF_WITH_<DEP>=AUTO) are
 # installed too so that the full project and its verification tests build on a fresh machine.
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libgtest-dev libbenchmark-dev
   libglm-dev libtbb-dev libopenmesh-dev libstb-dev libpng-dev libcli11-dev nlohmann-json3-dev
   libopenvdb-dev libboost-iostreams-dev

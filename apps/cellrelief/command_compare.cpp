@@ -17,7 +17,7 @@
 namespace cellrelief::app {
 namespace {
 
-struct CompareCli {
+struct CompareBackendsCli {
   std::string input, output = "out/compare", size = "512x512", camera, device;
   bool shadows = true;
   int repeat = 3;
@@ -47,7 +47,7 @@ Image<std::uint8_t> sideBySide(const std::vector<Rendered>& runs) {
   return out;
 }
 
-int runCompare(const CompareCli& o) {
+int runCompareBackends(const CompareBackendsCli& o) {
   const auto [width, height] = parseImageSize(o.size);
   const auto model = loadOrConvert(o.input);
   const render::Scene scene = render::Scene::of(model);
@@ -113,7 +113,7 @@ int runCompare(const CompareCli& o) {
 Command addCompareBackendsCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("compare-backends",
                                  "Render one scene on every backend that runs here and compare them with the CPU reference");
-  auto o = std::make_shared<CompareCli>();
+  auto o = std::make_shared<CompareBackendsCli>();
   cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
@@ -124,7 +124,7 @@ Command addCompareBackendsCommand(CLI::App& app) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_flag("!--no-shadows", o->shadows, "No shadow rays");
-  return {cmd, [o]() { return runCompare(*o); }};
+  return {cmd, [o]() { return runCompareBackends(*o); }};
 }
 
 }  // namespace cellrelief::app

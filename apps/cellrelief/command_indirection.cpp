@@ -171,7 +171,7 @@ int runIndirect(const IndirectionCli& o) {
 
 // ---- compare-optimizers -------------------------------------------------------------------------
 
-struct CompareCli {
+struct CompareOptimizersCli {
   std::vector<std::string> heightmaps;
   std::string out = "out/indirection", optimizers = "springs,springs-chord,ceres";
   int grid = 256, threads = 2;
@@ -207,7 +207,7 @@ std::string fmtTime(double s) {
   return buf;
 }
 
-int runCompare(CompareCli o) {
+int runCompareOptimizers(CompareOptimizersCli o) {
   if (o.heightmaps.empty()) {
     const std::filesystem::path data = std::filesystem::path(CELLRELIEF_DATA_DIR) / "heightmaps";
     o.heightmaps = {(data / "sponza/lion_bump.png").string(),
@@ -348,7 +348,7 @@ Command addIndirectCommand(CLI::App& app) {
 }
 
 Command addCompareOptimizersCommand(CLI::App& app) {
-  auto o = std::make_shared<CompareCli>();
+  auto o = std::make_shared<CompareOptimizersCli>();
   CLI::App* cmd = app.add_subcommand(
       "compare-optimizers", "springs versus Ceres: distortion against time, CSV, plot, table");
   cmd->add_option("heightmaps", o->heightmaps, "height maps (default: Sponza lion and bricks)");
@@ -362,7 +362,7 @@ Command addCompareOptimizersCommand(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
   cmd->add_flag("--quick", o->quick, "small run (maps at 128, g <= 32) for smoke tests");
   cmd->add_flag("!--no-pictures", o->pictures, "skip the parallax pictures");
-  return {cmd, [o] { return runCompare(*o); }};
+  return {cmd, [o] { return runCompareOptimizers(*o); }};
 }
 
 }  // namespace cellrelief::app
