@@ -24,7 +24,7 @@ struct CellsOptions {
   std::string grid = "auto";
   int maxGrid = 128;
   double threshold = 0.01;
-  bool centroid = false;
+  projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
   std::string dump;
   std::string preview;
 };
@@ -60,7 +60,7 @@ int runCells(const CellsOptions& o) {
   const TriangleMesh mesh = io::readMesh(o.mesh);
   std::printf("mesh          %s: %zu triangles\n", o.mesh.c_str(), mesh.triangleCount());
   relief::OcclusionOptions occlusion;
-  if (o.centroid) occlusion.centre = projection::CentreOfProjection::SurfaceCentroid;
+  occlusion.centre = o.centre;
 
   int n = parseGridSize(o.grid);
   if (n == 0) {
@@ -131,8 +131,12 @@ Command addCellsCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--threshold", o->threshold, "Occlusion ratio that stops --grid auto")
       ->capture_default_str();
-  cmd->add_flag("--centroid", o->centroid,
-                "Centre of projection at the centroid of each cell's surface (beyond the paper)");
+  cmd->add_option("--centre", o->centre,
+                  "Centre of projection for the occlusion ratio: cell (the paper's, and --grid "
+                  "auto's in convert), centroid (of the cell's surface) or fewest-crossings (the "
+                  "point from which the fewest projection lines cross the surface twice)")
+      ->transform(CLI::CheckedTransformer(centreNames(), CLI::ignore_case))
+      ->default_str("cell");
   cmd->add_option("--dump", o->dump, "Write the grey cells as boxes coloured by base case (PLY)");
   cmd->add_option("--preview", o->preview, "Write a picture of the grey cells (PNG)");
   return {cmd, [o]() { return runCells(*o); }};

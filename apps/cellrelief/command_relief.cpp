@@ -27,7 +27,8 @@ struct ConvertCli {
   std::string mesh, output, grid = "auto", texture, atlas, metric = "rms";
   int texels = 0, bits = 16;
   double maxError = 0;
-  bool centroid = false, measure = true, quiet = false;
+  projection::CentreOfProjection centre = projection::CentreOfProjection::FewestCrossings;
+  bool measure = true, quiet = false;
 };
 
 /// A progress bar on stderr that redraws in place.
@@ -47,7 +48,7 @@ int runConvert(const ConvertCli& o) {
   relief::ConvertOptions co;
   co.texels = o.texels;
   co.distanceBits = o.bits;
-  if (o.centroid) co.centre = projection::CentreOfProjection::SurfaceCentroid;
+  co.centre = o.centre;
   Image<std::uint8_t> texture;
   if (!o.texture.empty()) {
     const io::ImageFile file = io::readImage(o.texture);
@@ -98,6 +99,10 @@ int runConvert(const ConvertCli& o) {
   std::printf("domain faces  %d layers of %d x %d samples (%zu filled, %.1f%%)\n", model.layerCount(),
               model.texels, model.texels, filled,
               100.0 * double(filled) / std::max(1.0, double(model.layerCount()) * model.texels * model.texels));
+  if (o.maxError == 0)
+    std::printf("projection    centre %s: %zu cells moved; %zu filled samples' lines cross the surface "
+                "twice (the side past the second crossing is misread)\n",
+                projection::toString(co.centre), report.movedCentres, report.linesCrossedTwice);
   std::printf("maps          distance %d-bit%s%s\n", model.distanceBits,
               model.normalFormat == relief::NormalFormat::None ? "" : ", normals",
               model.colorFormat == relief::ColorFormat::None ? "" : ", colors");
@@ -170,7 +175,11 @@ Command addConvertCommand(CLI::App& app) {
       ->check(CLI::IsMember({"rms", "hausdorff"}))
       ->capture_default_str();
   cmd->add_option("--texture", o->texture, "Color texture sampled through the mesh's UVs");
-  cmd->add_flag("--centroid", o->centroid, "Centre of projection at each cell's surface centroid");
+  cmd->add_option("--centre", o->centre,
+                  "Centre of projection: fewest-crossings (moved where projection lines cross the "
+                  "surface twice), cell (the paper's) or centroid (of the cell's surface)")
+      ->transform(CLI::CheckedTransformer(centreNames(), CLI::ignore_case))
+      ->default_str("fewest-crossings");
   cmd->add_option("--atlas", o->atlas, "Folder for PNG atlases of the maps");
   cmd->add_flag("!--no-error", o->measure, "Skip measuring the error of the result");
   cmd->add_flag("--quiet", o->quiet, "No progress bar");

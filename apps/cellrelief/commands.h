@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -15,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cellrelief/core/aabb.h>
+#include <cellrelief/projection/choice.h>
 #include <cellrelief/render/camera.h>
 
 namespace cellrelief::relief {
@@ -52,6 +54,17 @@ std::string formatBytes(double bytes);
 
 /// The value of --grid: a whole number N >= 1, or 0 for "auto". Throws Error otherwise.
 int parseGridSize(const std::string& grid);
+
+/// The values of --centre, by name (projection::toString). Mapped to the enum's number, which
+/// CLI11 prints in its error (the enum's uint8_t would print as a character).
+inline std::map<std::string, int> centreNames() {
+  using projection::CentreOfProjection;
+  std::map<std::string, int> names;
+  for (const CentreOfProjection c :
+       {CentreOfProjection::CellCentre, CentreOfProjection::SurfaceCentroid, CentreOfProjection::FewestCrossings})
+    names.emplace(projection::toString(c), int(c));
+  return names;
+}
 
 /// The value of --size: "WxH", each 1 to 16384. Throws Error otherwise.
 std::pair<int, int> parseImageSize(const std::string& size);

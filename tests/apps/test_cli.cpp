@@ -151,9 +151,15 @@ TEST(Cli, ConvertAndReconstruct) {
                        " --grid 8 --texels 17 --texture " + texture.string() + " --atlas " +
                        (dir / "atlas").string());
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const char* words : {"N = 8", "layers of 17 x 17", "colors", "bytes", "time", "error         rms"})
+  for (const char* words : {"N = 8", "layers of 17 x 17", "colors", "bytes", "time", "error         rms",
+                            "centre fewest-crossings"})
     EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "atlas/color.png"));
+  // The paper's centres, by name: no cell is moved.
+  const Result paper = run("convert " + mesh.string() + " -o " + (dir / "paper.crm").string() +
+                           " --grid 8 --texels 17 --centre cell --no-error");
+  ASSERT_EQ(paper.status, 0) << paper.output;
+  EXPECT_TRUE(test::hasWords(paper.output, "centre cell: 0 cells moved")) << paper.output;
   const Result back = run("reconstruct " + (dir / "spot.crm").string() + " -o " +
                           (dir / "spot.ply").string() + " --lod 1");
   ASSERT_EQ(back.status, 0) << back.output;
@@ -179,13 +185,14 @@ TEST(Cli, ConvertAndReconstruct) {
       {"reconstruct " + (dir / "broken.crm").string() + " -o " + (dir / "x.ply").string(), "truncated"},
       {"reconstruct " + (dir / "spot.crm").string() + " -o " + (dir / "y.ply").string() + " --lod 9", "out of range"},
       {"convert " + mesh.string() + " -o " + (dir / "z.crm").string() + " --grid 0", "--grid"},
+      {"convert " + mesh.string() + " -o " + (dir / "v.crm").string() + " --centre middle", "fewest-crossings"},
       {"convert " + (dir / "absent.obj").string() + " -o " + (dir / "w.crm").string(), "no such file"}};
   for (const auto& [args, words] : cases) {
     const Result e = run(args);
     EXPECT_NE(e.status, 0) << args;
     EXPECT_TRUE(test::hasWords(e.output, words)) << e.output;
   }
-  for (const char* name : {"x.ply", "y.ply", "z.crm", "w.crm"}) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
+  for (const char* name : {"x.ply", "y.ply", "z.crm", "v.crm", "w.crm"}) EXPECT_FALSE(std::filesystem::exists(dir / name)) << name;
 }
 
 TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {

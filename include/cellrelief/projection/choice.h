@@ -42,7 +42,15 @@ enum class ProjectionType : std::uint8_t { Parallel, Planar, Perspective, Axial 
 inline constexpr const char* kProjectionTypeNames[] = {"parallel", "planar", "perspective", "axial"};
 inline const char* toString(ProjectionType t) { return kProjectionTypeNames[static_cast<int>(t)]; }
 
-enum class CentreOfProjection : std::uint8_t { CellCentre, SurfaceCentroid };
+/// Where a cell's centre (or axis) of projection goes along its free coordinates:
+/// - CellCentre: the paper's canonical point;
+/// - SurfaceCentroid: the centroid of the surface in the cell (clamped, see below);
+/// - FewestCrossings: the point of a lattice from which the fewest projection lines meet the surface
+///   more than once (relief/centre_search.h): a line holds one distance, so a second crossing is lost and
+///   the side past it misread (a handle through an interior cell reads as filled).
+enum class CentreOfProjection : std::uint8_t { CellCentre, SurfaceCentroid, FewestCrossings };
+inline constexpr const char* kCentreOfProjectionNames[] = {"cell", "centroid", "fewest-crossings"};
+inline const char* toString(CentreOfProjection c) { return kCentreOfProjectionNames[static_cast<int>(c)]; }
 
 /// The canonical projection of a base case: type, the face or axis it uses, and its point.
 struct CanonicalProjection {
@@ -97,7 +105,7 @@ struct CellProjection {
 };
 
 /// The projection for a configuration. `centroid` (unit-cell coordinates) is used only with
-/// CentreOfProjection::SurfaceCentroid.
+/// CentreOfProjection::SurfaceCentroid and FewestCrossings (the candidate point).
 template <Real T>
 CellProjection<T> chooseProjection(std::uint8_t configuration,
                                    CentreOfProjection centre = CentreOfProjection::CellCentre,
@@ -109,12 +117,14 @@ CellProjection<T> chooseProjection(std::uint8_t configuration,
   out.type = canon.type;
   out.faces = cells::domainFacesOf(configuration & 63);
   Vec3<T> canonicalPoint = Vec3<T>(canon.point);
-  if (centre == CentreOfProjection::SurfaceCentroid && centroid &&
+  if (centre != CentreOfProjection::CellCentre && centroid &&
       (canon.type == ProjectionType::Perspective || canon.type == ProjectionType::Axial)) {
-    // Move along the free canonical coordinates only (those at 1/2), in the canonical frame.
+    // Move along the free canonical coordinates only (those at 1/2), in the canonical frame; an
+    // axis moved along itself is the same line, so its own coordinate stays.
     const Vec3<T> c = rot.inverse().applyToPoint(glm::clamp(*centroid, T(0.05), T(0.95)));
     for (int a = 0; a < 3; ++a)
-      if (canon.point[a] == 0.5) canonicalPoint[a] = c[a];
+      if (canon.point[a] == 0.5 && !(canon.type == ProjectionType::Axial && a == canon.faceOrAxis))
+        canonicalPoint[a] = c[a];
   }
   out.point = rot.applyToPoint(canonicalPoint);
   switch (canon.type) {

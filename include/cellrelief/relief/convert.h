@@ -20,6 +20,7 @@
 #include "cellrelief/core/mesh_topology.h"
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/metrics/geometric_error.h"
+#include "cellrelief/relief/centre_search.h"
 #include "cellrelief/relief/flat_mesh.h"
 #include "cellrelief/relief/grid_size.h"
 #include "cellrelief/relief/reconstruct.h"
@@ -39,7 +40,9 @@ struct ConvertOptions {
   bool forceNormals = false;
   bool colors = true;                         ///< when the mesh has colors or a texture is given
   const Image<std::uint8_t>* texture = nullptr;  ///< sampled through the mesh's UVs
-  projection::CentreOfProjection centre = projection::CentreOfProjection::CellCentre;
+  /// FewestCrossings moves a cell's point only where some projection line crosses the surface
+  /// twice (cost: one more ray per filled sample, and the search in those cells).
+  projection::CentreOfProjection centre = projection::CentreOfProjection::FewestCrossings;
   GridSizeOptions gridSearch = {.threshold = 0.01, .maxGridSize = 64};
   std::size_t memoryLimitBytes = std::size_t(4) << 30;
   /// Called with the fraction done (0..1), about 100 times, from worker threads but never two at
@@ -51,6 +54,10 @@ struct ConvertReport {
   double gridSeconds = 0, sampleSeconds = 0, totalSeconds = 0;
   std::size_t greyCells = 0, layers = 0, droppedLayers = 0;
   std::size_t filledSamples = 0, emptySamples = 0;
+  /// Filled samples whose projection line meets the surface again past the stored hit: the side
+  /// past that second crossing is misread (0 is a model that reads every line right).
+  std::size_t linesCrossedTwice = 0;
+  std::size_t movedCentres = 0;  ///< cells whose point FewestCrossings moved
   double quantizationErrorWS = 0;
   std::vector<GridSizeTrial> gridTrials;
   /// > 0 when the mesh was flat and was modelled as a slab this thick (flat_mesh.h).
@@ -86,6 +93,8 @@ struct CellSamples {
   std::vector<Color8> color;
   std::uint8_t present = 0;   ///< domain faces with at least one sample
   bool centreInside = false;  ///< interior cells only
+  bool centreMoved = false;   ///< FewestCrossings moved the point off the canonical one
+  int linesCrossedTwice = 0;  ///< samples whose line meets the surface again past its hit
 };
 
 /// Refuses bad options and conversions over the memory limit; returns T.
@@ -134,46 +143,70 @@ inline void sampleSignals(const TriangleMesh& mesh, const Signals& signals, cons
   }
 }
 
-/// Samples one grey cell: chooses its projection, then casts the projection line of each sample
-/// of each domain face against the mesh and keeps the nearest hit.
-inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex& complex,
-                              const MeshRayQuery& query, const ConvertOptions& options,
-                              const Signals& signals, const cells::GreyCell& cell, int T) {
-  CellSamples out;
-  const double h = complex.cellSizeWS();
-  std::optional<Vec3d> centroid;
-  if (options.centre == projection::CentreOfProjection::SurfaceCentroid) {
-    std::vector<SurfaceSample> surf;
-    sampleCellSurface(complex, mesh.triangles, cell, 256.0, 4096, surf);
-    centroid = sampleCentroid(surf);
-  }
-  out.proj = projection::chooseProjection<double>(cell.configuration, options.centre, centroid);
-  if (cell.configuration == 0)
-    out.centreInside = query.contains(complex.cellMinWS(cell.ijk) + h * out.proj.point);
-  const int faces = std::popcount(unsigned(cell.domainFaces()));
+/// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
+/// and keeps the nearest hit; counts the lines that meet the surface again past it.
+inline void sampleFaces(const TriangleMesh& mesh, const MeshRayQuery& query, const ConvertOptions& options,
+                        const Signals& signals, const Vec3d& cellMin, double h, int T, CellSamples& out) {
+  const int faces = std::popcount(unsigned(out.proj.domainFaces()));
   out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
-  if (signals.normals) out.normal.assign(out.distance.size(), Vec3f(0));
-  if (signals.colors) out.color.assign(out.distance.size(), Color8(0));
-  const Vec3d cellMin = complex.cellMinWS(cell.ijk);
+  out.normal.assign(signals.normals ? out.distance.size() : 0, Vec3f(0));
+  out.color.assign(signals.colors ? out.distance.size() : 0, Color8(0));
+  out.present = 0;
+  out.linesCrossedTwice = 0;
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
-    if (!(cell.domainFaces() & (1u << f))) continue;
+    if (!(out.proj.domainFaces() & (1u << f))) continue;
     bool any = false;
     for (int b = 0; b < T; ++b)
       for (int a = 0; a < T; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
-        const Vec3d end = out.proj.lineEnd(f, onFace);
-        const Hitd hit = query.bvh.closestHit(Rayd(cellMin + h * onFace, h * (end - onFace), 0.0, 1.0));
+        const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
+        const Hitd hit = query.bvh.closestHit(line);
         if (!hit.valid()) continue;
         const std::size_t k = (std::size_t(slot) * T + b) * T + a;
-        out.distance[k] = float(hit.t * glm::length(end - onFace));
+        out.distance[k] = float(hit.t * glm::length(out.proj.lineEnd(f, onFace) - onFace));
         any = true;
+        if (crossesAgain(query, line, hit.t)) ++out.linesCrossedTwice;
         sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                       signals.colors ? &out.color[k] : nullptr);
       }
     if (any) out.present |= std::uint8_t(1u << f);
     ++slot;
   }
+}
+
+/// Samples one grey cell: chooses its projection, then samples its faces. FewestCrossings samples
+/// with the canonical projection first and searches for a better point only when some of its
+/// lines cross the surface twice.
+inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex& complex,
+                              const MeshRayQuery& query, const ConvertOptions& options,
+                              const Signals& signals, const cells::GreyCell& cell, int T) {
+  using projection::CentreOfProjection;
+  CellSamples out;
+  const double h = complex.cellSizeWS();
+  const Vec3d cellMin = complex.cellMinWS(cell.ijk);
+  std::optional<Vec3d> centroid;
+  if (options.centre == CentreOfProjection::SurfaceCentroid) {
+    std::vector<SurfaceSample> surf;
+    sampleCellSurface(complex, mesh.triangles, cell, 256.0, 4096, surf);
+    centroid = sampleCentroid(surf);
+  }
+  const CentreOfProjection first =
+      options.centre == CentreOfProjection::FewestCrossings ? CentreOfProjection::CellCentre : options.centre;
+  out.proj = projection::chooseProjection<double>(cell.configuration, first, centroid);
+  sampleFaces(mesh, query, options, signals, cellMin, h, T, out);
+  if (options.centre == CentreOfProjection::FewestCrossings && out.linesCrossedTwice > 0) {
+    const auto better = fewestCrossingsProjection(cell.configuration, query, cellMin, h);
+    if (better.point != out.proj.point) {
+      // The search saw 9 x 9 lines per face; keep the canonical samples unless the T x T agree.
+      CellSamples moved;
+      moved.proj = better;
+      moved.centreMoved = true;
+      sampleFaces(mesh, query, options, signals, cellMin, h, T, moved);
+      if (moved.linesCrossedTwice < out.linesCrossedTwice) out = std::move(moved);
+    }
+  }
+  if (cell.configuration == 0) out.centreInside = query.contains(cellMin + h * out.proj.point);
   return out;
 }
 
@@ -234,6 +267,8 @@ inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::ve
     for (int a = 0; a < 3; ++a) r.point[a] = float(s.proj.point[a]);
     layers += std::popcount(unsigned(r.presentFaces));
     rep.droppedLayers += std::popcount(unsigned(g.domainFaces())) - std::popcount(unsigned(r.presentFaces));
+    rep.linesCrossedTwice += std::size_t(s.linesCrossedTwice);
+    rep.movedCentres += s.centreMoved ? 1 : 0;
     for (const float d : s.distance)
       if (!std::isnan(d)) maxDistance = std::max(maxDistance, d);
   }

@@ -25,6 +25,7 @@
 #include "cellrelief/cells/cell_complex.h"
 #include "cellrelief/core/bvh.h"
 #include "cellrelief/projection/choice.h"
+#include "cellrelief/relief/centre_search.h"
 #include "cellrelief/relief/surface_samples.h"
 
 namespace cellrelief::relief {
@@ -74,18 +75,30 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
     s.samples.clear();
     sampleCellSurface(complex, mesh.triangles, cell, density, 16 * T * T, s.samples);
     if (s.samples.empty()) return;
-    const projection::CellProjection<double> proj = projection::chooseProjection<double>(
-        cell.configuration, options.centre, sampleCentroid(s.samples));
     const Vec3d cellMinWS = complex.cellMinWS(cell.ijk);
-    for (const SurfaceSample& sample : s.samples) {
-      sum.totalArea += sample.weight;
-      const projection::FacePoint<double> fp = proj.project(sample.p);
-      const Vec3d target = projection::facePoint(fp.face, fp.uv);
-      const Vec3d dir = target - sample.p;
-      if (glm::dot(dir, dir) == 0) continue;
-      // The segment from the sample to its face point, in world space (t in (0, 1]).
-      const Rayd segment(cellMinWS + h * sample.p, h * dir, kSelfOffset, 1.0);
-      if (query.bvh.anyHit(segment, sample.triangle)) sum.occludedArea += sample.weight;
+    auto occludedArea = [&](const projection::CellProjection<double>& proj) {
+      double area = 0;
+      for (const SurfaceSample& sample : s.samples) {
+        const projection::FacePoint<double> fp = proj.project(sample.p);
+        const Vec3d target = projection::facePoint(fp.face, fp.uv);
+        const Vec3d dir = target - sample.p;
+        if (glm::dot(dir, dir) == 0) continue;
+        // The segment from the sample to its face point, in world space (t in (0, 1]).
+        const Rayd segment(cellMinWS + h * sample.p, h * dir, kSelfOffset, 1.0);
+        if (query.bvh.anyHit(segment, sample.triangle)) area += sample.weight;
+      }
+      return area;
+    };
+    for (const SurfaceSample& sample : s.samples) sum.totalArea += sample.weight;
+    if (options.centre == projection::CentreOfProjection::FewestCrossings) {
+      // As the conversion chooses: the canonical projection unless some of its lines cross twice.
+      sum.occludedArea = occludedArea(projection::chooseProjection<double>(cell.configuration));
+      if (sum.occludedArea > 0)
+        sum.occludedArea = std::min(sum.occludedArea,
+                                    occludedArea(fewestCrossingsProjection(cell.configuration, query, cellMinWS, h)));
+    } else {
+      sum.occludedArea = occludedArea(
+          projection::chooseProjection<double>(cell.configuration, options.centre, sampleCentroid(s.samples)));
     }
     sum.samples += s.samples.size();
   }, 16);
