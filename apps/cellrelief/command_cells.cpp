@@ -71,12 +71,15 @@ int runCells(const CellsOptions& o) {
     const relief::GridSizeChoice choice = relief::chooseGridSize(mesh, g);
     std::printf("grid search   occlusion ratio per N (threshold %.3g, N_max %d):\n", o.threshold,
                 o.maxGrid);
-    for (const relief::GridSizeTrial& t : choice.trials)
-      std::printf("  N = %4d    occlusion %.5f   grey cells %8zu   %.3f s\n", t.gridSize,
-                  t.occlusionRatio, t.greyCells, t.seconds);
+    for (const relief::GridSizeTrial& t : choice.trials) {
+      std::printf("  N = %4d    occlusion %.5f   grey cells %8zu   %.3f s", t.gridSize, t.occlusionRatio,
+                  t.greyCells, t.seconds);
+      if (t.rimBandRatio > 0) std::printf("   rim band %.5f", t.rimBandRatio);
+      std::printf("\n");
+    }
     n = choice.gridSize;
     std::printf("chosen N      %d%s\n", n,
-                choice.metThreshold ? "" : " (N_max reached before the threshold)");
+                choice.metThreshold ? "" : " (N_max, or the finest sampling, reached before the threshold)");
   }
 
   const cells::CellComplex complex = cells::CellComplex::build(mesh, {.gridSize = n});

@@ -83,6 +83,9 @@ int runConvert(const ConvertCli& o) {
     for (const auto& t : report.gridTrials)
       if (t.hausdorff >= 0)
         std::printf("grid search   N = %4d hausdorff %.4f%% of the diagonal\n", t.gridSize, 100 * t.hausdorff);
+      else if (t.rimBandRatio > 0)
+        std::printf("grid search   N = %4d occlusion %.5f rim band %.5f\n", t.gridSize, t.occlusionRatio,
+                    t.rimBandRatio);
       else
         std::printf("grid search   N = %4d occlusion %.5f\n", t.gridSize, t.occlusionRatio);
   }

@@ -55,6 +55,61 @@ TEST(Occlusion, NMaxStopsTheSearch) {
   EXPECT_THROW(chooseGridSize(torus, {.maxGridSize = 0}), Error);
 }
 
+/// An icosphere without the triangles whose centroid lies above z = 0: a hemisphere, whose rim is
+/// the equator (2 pi long, zig-zagging along the triangles' edges).
+TriangleMesh hemisphere() {
+  const TriangleMesh sphere = makeIcosphere(4);
+  TriangleMesh open = sphere;
+  open.normals.clear();
+  open.triangles.clear();
+  for (const Vec3u& t : sphere.triangles)
+    if (sphere.positions[t[0]].z + sphere.positions[t[1]].z + sphere.positions[t[2]].z < 0) open.triangles.push_back(t);
+  return open;
+}
+
+TEST(RimBand, AnOpenMeshRefinesUntilTheBandAlongItsRimIsSmall) {
+  // Seen from the centre, the hemisphere has no occlusion: by the occlusion ratio alone, N = 1.
+  const TriangleMesh open = hemisphere();
+  const double rim = boundaryLength(open), area = surfaceArea(open);
+  EXPECT_GT(rim, 2 * 3.14159);
+  EXPECT_LT(rim, 1.3 * 2 * 3.14159);
+  EXPECT_EQ(boundaryLength(makeIcosphere(4)), 0.0);
+  const GridSizeChoice choice = chooseGridSize(open, {.threshold = 0.01, .maxGridSize = 64});
+  ASSERT_GE(choice.trials.size(), 2u);
+  EXPECT_LT(choice.trials.front().occlusionRatio, 0.01);
+  // At N = 1 the cube's side (2) holds 64 sample spacings: a band 2 spacings wide along the rim.
+  EXPECT_NEAR(choice.trials.front().rimBandRatio, rim * 2 * (2.0 / 64) / area, 1e-6);  // (float bounds)
+  for (std::size_t i = 1; i < choice.trials.size(); ++i)  // T = 65 up to N = 8: the band halves
+    EXPECT_NEAR(choice.trials[i].rimBandRatio, choice.trials[i - 1].rimBandRatio / 2, 1e-9);
+  EXPECT_TRUE(choice.metThreshold);
+  EXPECT_LT(choice.trials.back().rimBandRatio, 0.01);
+  EXPECT_GE(choice.trials[choice.trials.size() - 2].rimBandRatio, 0.01);
+  // A closed mesh has no band.
+  for (const GridSizeTrial& t : chooseGridSize(makeIcosphere(4), {}).trials) EXPECT_EQ(t.rimBandRatio, 0.0);
+}
+
+TEST(RimBand, TheSearchStopsWhereAFinerGridWouldNotSampleFiner) {
+  // Disjoint small triangles in one plane: all boundary, no occlusion. The band stays at its cap;
+  // past N = 8 the default T halves as N doubles, so the sampling is no finer and the search stops.
+  TriangleMesh confetti;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      const auto base = std::uint32_t(confetti.positions.size());
+      const float x = i * 0.1f, y = j * 0.1f;
+      confetti.positions.push_back(Vec3f(x, y, 0.2f * x));
+      confetti.positions.push_back(Vec3f(x + 0.05f, y, 0.2f * (x + 0.05f)));
+      confetti.positions.push_back(Vec3f(x, y + 0.05f, 0.2f * x));
+      confetti.triangles.push_back({base, base + 1, base + 2});
+    }
+  const GridSizeChoice byDefault = chooseGridSize(confetti, {.threshold = 0.01, .maxGridSize = 64});
+  EXPECT_EQ(byDefault.gridSize, 8);
+  EXPECT_FALSE(byDefault.metThreshold);
+  EXPECT_GT(byDefault.trials.back().rimBandRatio, 0.01);
+  // With T fixed, every doubling samples finer: the search goes on to N_max.
+  const GridSizeChoice fixedT = chooseGridSize(confetti, {.threshold = 0.01, .maxGridSize = 32, .texels = 17});
+  EXPECT_EQ(fixedT.gridSize, 32);
+}
+
 TEST(Bvh, AgreesWithBruteForce) {
   const TriangleMesh torus = makeTorus(1.0f, 0.35f, 40, 20);
   const std::vector<Vec3d> p(torus.positions.begin(), torus.positions.end());

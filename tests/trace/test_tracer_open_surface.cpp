@@ -79,6 +79,82 @@ TEST(OpenSurface, RaysThroughAHoleMeetTheInnerWallAndNoConeAroundTheRim) {
   EXPECT_GT(marked.agree, unmarked.agree + marked.rays / 10);
 }
 
+/// A tilted square sheet, z = 0.23 x + 0.11 y over [-1, 1]^2: open, with white space on both
+/// sides, so the cells it crosses face it from above and below (planar projections) and it
+/// crosses their mid-planes.
+TriangleMesh tiltedSheet(int quads) {
+  TriangleMesh sheet;
+  for (int j = 0; j <= quads; ++j)
+    for (int i = 0; i <= quads; ++i) {
+      const float x = -1 + 2.0f * i / quads, y = -1 + 2.0f * j / quads;
+      sheet.positions.push_back(Vec3f(x, y, 0.23f * x + 0.11f * y));
+    }
+  for (int j = 0; j < quads; ++j)
+    for (int i = 0; i < quads; ++i) {
+      const auto v = std::uint32_t(j * (quads + 1) + i), w = v + std::uint32_t(quads + 1);
+      sheet.triangles.push_back({v, v + 1, w + 1});
+      sheet.triangles.push_back({v, w + 1, w});
+    }
+  return sheet;
+}
+
+/// Rays from above at points of the sheet away from the cells that hold its border (|x|, |y| <
+/// 0.7; at N = 8 the border cells begin at 0.75): how many miss it or meet it farther than
+/// `tolerance` from the exact hit.
+int raysThatMissTheSheet(const TriangleMesh& sheet, const relief::ReliefModel& model, double tolerance) {
+  const MeshBvh exact(sheet);
+  const ReliefTracerd tracer(model);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int wrong = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3d target(0.7 * u(random), 0.7 * u(random), 0.0);
+    const Vec3d from = target + glm::normalize(Vec3d(0.1 * u(random), 0.1 * u(random), 1.0)) * 3.0;
+    const Rayd ray(from, glm::normalize(target - from));
+    const Hitd truth = exact.bvh.closestHit(ray);
+    const auto hit = tracer.intersect(ray);
+    wrong += !truth.valid() || !hit.valid() || std::abs(truth.t - hit.t) > tolerance;
+  }
+  return wrong;
+}
+
+TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
+  const TriangleMesh sheet = tiltedSheet(40);
+  relief::ReliefModel model = relief::convert(sheet, {.gridSize = 8, .texels = 17});
+  int planar = 0;
+  for (const relief::CellRecord& r : model.cells)
+    planar += r.projection<double>().type == projection::ProjectionType::Planar;
+  ASSERT_GT(planar, 20);
+  const double spacing = model.cellSizeWS / (model.texels - 1);
+  const int wrong = raysThatMissTheSheet(sheet, model, 2 * spacing);
+  // The same model without the hits past the mid-plane (convert.h, kPastMidPlaneSamples): the
+  // texels next to where the sheet crosses it read no surface.
+  std::size_t removed = 0;
+  for (const relief::CellRecord& r : model.cells) {
+    if (r.projection<double>().type != projection::ProjectionType::Planar) continue;
+    for (int f = 0; f < cells::kFaceCount; ++f) {
+      const int layer = r.layerOf(f);
+      if (layer < 0) continue;
+      for (int b = 0; b < model.texels; ++b)
+        for (int a = 0; a < model.texels; ++a)
+          if (model.distance(layer, a, b) > 0.5f) {
+            model.distances16.at(a, b, layer, 0) = std::uint16_t(model.emptyCode());
+            ++removed;
+          }
+    }
+  }
+  const int wrongWithout = raysThatMissTheSheet(sheet, model, 2 * spacing);
+  std::printf("planar cells %d; rays missing the sheet: %d of 4000 (%d without the %zu samples past the "
+              "mid-plane)\n", planar, wrong, wrongWithout, removed);
+  // Measured: 22 of 4000 with, 121 without. What is left: where the sheet lies in a face shared
+  // by two cells (no side is carried across faces in an open model), and where it lies so near
+  // the mid-plane that the band between them, the only stretch of the line that reads "beyond the
+  // surface" when white space borders both sides of one sheet, is thinner than a search step.
+  EXPECT_GT(removed, 0u);
+  EXPECT_LE(wrong, 40);
+  EXPECT_GT(wrongWithout, 3 * wrong);
+}
+
 TEST(OpenSurface, ClosedMeshesMarkNoCell) {
   const relief::ReliefModel model = relief::convert(makeIcosphere(4), {.gridSize = 8, .texels = 17});
   for (const relief::CellRecord& r : model.cells) ASSERT_FALSE(r.openSurface());

@@ -64,9 +64,6 @@ struct ConvertReport {
   double slabThicknessWS = 0;
 };
 
-/// The default T for grid size N: about 512 samples across the bounding cube, 9 to 65 per face.
-inline int defaultTexels(int n) { return std::clamp(512 / std::max(1, n), 8, 64) + 1; }
-
 namespace detail {
 
 /// The signals a conversion samples: only those the mesh has (and the options allow).
@@ -143,8 +140,21 @@ inline void sampleSignals(const TriangleMesh& mesh, const Signals& signals, cons
   }
 }
 
+/// How far a planar projection's lines look past their end (the mid-plane), in sample spacings
+/// of depth. A sheet that crosses the mid-plane splits between the two faces; the sample whose
+/// line just misses it on its side would be empty, and the bilinear texel between it and a filled
+/// neighbour would read no surface: a gap one texel wide along the mid-plane (laurana's chest at
+/// N = 32 showed it against Embree). With the hit past the end stored, that texel interpolates a
+/// distance that crosses the mid-plane where the sheet does. The field of such a line is
+/// negative (before the surface) over its whole length, as an empty line's is outside, so the
+/// side each line reads is unchanged. Central and axial lines end at a point or an axis, and
+/// their continuation leads into the opposite face's region, not the neighbouring one: they
+/// stop at their end.
+inline constexpr double kPastMidPlaneSamples = 2.0;
+
 /// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
-/// and keeps the nearest hit; counts the lines that meet the surface again past it.
+/// and keeps the nearest hit (for planar projections, one past the mid-plane as well:
+/// kPastMidPlaneSamples); counts the lines that meet the surface again past it.
 inline void sampleFaces(const TriangleMesh& mesh, const MeshRayQuery& query, const ConvertOptions& options,
                         const Signals& signals, const Vec3d& cellMin, double h, int T, CellSamples& out) {
   const int faces = std::popcount(unsigned(out.proj.domainFaces()));
@@ -153,24 +163,38 @@ inline void sampleFaces(const TriangleMesh& mesh, const MeshRayQuery& query, con
   out.color.assign(signals.colors ? out.distance.size() : 0, Color8(0));
   out.present = 0;
   out.linesCrossedTwice = 0;
+  // A planar line is half a cell long: kPastMidPlaneSamples / (T - 1) cells is this much of it.
+  const double pastEnd =
+      out.proj.type == projection::ProjectionType::Planar ? 2 * kPastMidPlaneSamples / (T - 1) : 0.0;
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
     if (!(out.proj.domainFaces() & (1u << f))) continue;
-    bool any = false;
+    bool anyWithinLine = false;
+    const std::size_t first = std::size_t(slot) * T * T;
     for (int b = 0; b < T; ++b)
       for (int a = 0; a < T; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
         const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
-        const Hitd hit = query.bvh.closestHit(line);
+        Rayd extended = line;
+        extended.tmax = 1 + pastEnd;
+        const Hitd hit = query.bvh.closestHit(extended);
         if (!hit.valid()) continue;
-        const std::size_t k = (std::size_t(slot) * T + b) * T + a;
+        const std::size_t k = first + std::size_t(b) * T + a;
         out.distance[k] = float(hit.t * glm::length(out.proj.lineEnd(f, onFace) - onFace));
-        any = true;
-        if (crossesAgain(query, line, hit.t)) ++out.linesCrossedTwice;
+        if (hit.t <= 1) {
+          anyWithinLine = true;
+          if (crossesAgain(query, line, hit.t)) ++out.linesCrossedTwice;
+        }
         sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                       signals.colors ? &out.color[k] : nullptr);
       }
-    if (any) out.present |= std::uint8_t(1u << f);
+    if (anyWithinLine) {
+      out.present |= std::uint8_t(1u << f);
+    } else {
+      // Only hits past the mid-plane: the face reads no surface of its own (as if empty).
+      std::fill_n(out.distance.begin() + std::ptrdiff_t(first), std::size_t(T) * T,
+                  std::numeric_limits<float>::quiet_NaN());
+    }
     ++slot;
   }
 }
@@ -430,9 +454,10 @@ inline ReliefModel convertSlabByError(const TriangleMesh& input, const TriangleM
     }
     const double error =
         metrics::surfaceError(input, inputField, reconstructPerFace(model), 50000).hausdorff() / diagonal;
-    rep.gridTrials.push_back({n, 0.0, complex->stats().grey,
-                              std::chrono::duration<double>(std::chrono::steady_clock::now() - trialStart).count(),
-                              error});
+    rep.gridTrials.push_back(
+        {.gridSize = n, .greyCells = complex->stats().grey,
+         .seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - trialStart).count(),
+         .hausdorff = error});
     if (error < bestError) {
       bestError = error;
       best = std::move(model);
@@ -465,6 +490,7 @@ inline ReliefModel convert(const TriangleMesh& input, const ConvertOptions& opti
   std::shared_ptr<const cells::CellComplex> complex;
   if (options.gridSize == 0) {
     GridSizeOptions search = options.gridSearch;
+    search.texels = options.texels;
     search.memoryLimitBytes = std::min(search.memoryLimitBytes, options.memoryLimitBytes);
     GridSizeChoice choice = chooseGridSize(mesh, search, &query);
     rep.gridTrials = choice.trials;
