@@ -36,17 +36,18 @@ struct Agreement {
   int rays = 0, agree = 0;  ///< same hit or miss as the mesh, and within `tolerance` in depth
 };
 
-/// Rays from above and from random directions at the hole, against the exact hits on the mesh.
-Agreement traceThroughTheHole(const TriangleMesh& mesh, const relief::ReliefModel& model, double tolerance) {
+/// 4000 rays from above, each aimed at a random point (x, y, z) with |x|, |y| < reach, from
+/// directions up to atan(tilt) off the vertical: the exact hit on the mesh against the tracer's.
+Agreement raysFromAbove(const TriangleMesh& mesh, const relief::ReliefModel& model, double tolerance,
+                        double reach, double z, double tilt, unsigned seed) {
   const MeshBvh exact(mesh);
   const ReliefTracerd tracer(model);
-  std::mt19937 random(5);
+  std::mt19937 random(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   Agreement a;
   for (int i = 0; i < 4000; ++i) {
-    // Aimed at points of the hole's disc and a little beyond its rim, from above at up to 45 degrees.
-    const Vec3d target(0.8 * u(random), 0.8 * u(random), 0.8);
-    const Vec3d from = target + glm::normalize(Vec3d(0.7 * u(random), 0.7 * u(random), 1.0)) * 3.0;
+    const Vec3d target(reach * u(random), reach * u(random), z);
+    const Vec3d from = target + glm::normalize(Vec3d(tilt * u(random), tilt * u(random), 1.0)) * 3.0;
     const Rayd ray(from, glm::normalize(target - from));
     const Hitd truth = exact.bvh.closestHit(ray);
     const auto hit = tracer.intersect(ray);
@@ -54,6 +55,11 @@ Agreement traceThroughTheHole(const TriangleMesh& mesh, const relief::ReliefMode
     a.agree += truth.valid() == hit.valid() && (!truth.valid() || std::abs(truth.t - hit.t) < tolerance);
   }
   return a;
+}
+
+/// Rays at points of the hole's disc and a little beyond its rim, from above at up to 45 degrees.
+Agreement traceThroughTheHole(const TriangleMesh& mesh, const relief::ReliefModel& model, double tolerance) {
+  return raysFromAbove(mesh, model, tolerance, 0.8, 0.8, 0.7, 5);
 }
 
 TEST(OpenSurface, RaysThroughAHoleMeetTheInnerWallAndNoConeAroundTheRim) {
@@ -102,20 +108,8 @@ TriangleMesh tiltedSheet(int quads) {
 /// 0.7; at N = 8 the border cells begin at 0.75): how many miss it or meet it farther than
 /// `tolerance` from the exact hit.
 int raysThatMissTheSheet(const TriangleMesh& sheet, const relief::ReliefModel& model, double tolerance) {
-  const MeshBvh exact(sheet);
-  const ReliefTracerd tracer(model);
-  std::mt19937 random(11);
-  std::uniform_real_distribution<double> u(-1, 1);
-  int wrong = 0;
-  for (int i = 0; i < 4000; ++i) {
-    const Vec3d target(0.7 * u(random), 0.7 * u(random), 0.0);
-    const Vec3d from = target + glm::normalize(Vec3d(0.1 * u(random), 0.1 * u(random), 1.0)) * 3.0;
-    const Rayd ray(from, glm::normalize(target - from));
-    const Hitd truth = exact.bvh.closestHit(ray);
-    const auto hit = tracer.intersect(ray);
-    wrong += !truth.valid() || !hit.valid() || std::abs(truth.t - hit.t) > tolerance;
-  }
-  return wrong;
+  const Agreement a = raysFromAbove(sheet, model, tolerance, 0.7, 0.0, 0.1, 11);
+  return a.rays - a.agree;  // every ray meets the sheet
 }
 
 TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
