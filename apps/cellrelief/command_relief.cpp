@@ -97,7 +97,7 @@ int runConvert(const ConvertCli& o) {
   std::size_t filled = 0;
   for (int l = 0; l < model.layerCount(); ++l)
     for (int b = 0; b < model.texels; ++b)
-      for (int a = 0; a < model.texels; ++a) filled += model.distanceCode(l, a, b) != model.emptyCode();
+      for (int a = 0; a < model.texels; ++a) filled += !model.distanceCodec.isEmpty(model.distanceCode(l, a, b));
   std::printf("grid          N = %d, %zu grey cells\n", model.gridSize, model.cells.size());
   std::printf("domain faces  %d layers of %d x %d samples (%zu filled, %.1f%%)\n", model.layerCount(),
               model.texels, model.texels, filled,
@@ -106,7 +106,7 @@ int runConvert(const ConvertCli& o) {
     std::printf("projection    centre %s: %zu cells moved; %zu filled samples' lines cross the surface "
                 "twice (the side past the second crossing is misread)\n",
                 projection::toString(co.centre), report.movedCentres, report.linesCrossedTwice);
-  std::printf("maps          distance %d-bit%s%s\n", model.distanceBits,
+  std::printf("maps          distance %d-bit%s%s\n", model.distanceCodec.bits,
               model.normalFormat == relief::NormalFormat::None ? "" : ", normals",
               model.colorFormat == relief::ColorFormat::None ? "" : ", colors");
   std::printf("bytes         %s (look-up table %s)\n", formatBytes(double(model.byteSize())).c_str(),

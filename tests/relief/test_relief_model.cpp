@@ -104,6 +104,55 @@ TEST(Reconstruction, LevelsOfDetailAndCracksStaySmall) {
   EXPECT_THROW(reconstruct(model, -1), Error);
 }
 
+TEST(DistanceCodec, CodesRoundTripWithinHalfAStepAndTheLargestMeansEmpty) {
+  for (const int bits : {8, 16}) {
+    const DistanceCodec codec{.bits = bits, .distanceMax = 0.8f};
+    EXPECT_TRUE(DistanceCodec::supports(bits));
+    EXPECT_EQ(codec.emptyCode(), (1u << bits) - 1);
+    EXPECT_EQ(codec.maxCode(), codec.emptyCode() - 1);
+    EXPECT_EQ(codec.bytesPerCode(), std::size_t(bits / 8));
+    EXPECT_TRUE(codec.isEmpty(codec.emptyCode()));
+    EXPECT_FALSE(codec.isEmpty(codec.maxCode()));
+    EXPECT_TRUE(std::isnan(codec.decode(codec.emptyCode())));
+    EXPECT_EQ(codec.encode(0.8), codec.maxCode());
+    EXPECT_EQ(codec.encode(5.0), codec.maxCode());  // clamped, never the empty code
+    EXPECT_EQ(codec.encode(-1.0), 0u);
+    EXPECT_EQ(codec.encode(std::numeric_limits<double>::quiet_NaN()), 0u);
+    double worst = 0;
+    for (int i = 0; i <= 1000; ++i) {
+      const double d = 0.8 * i / 1000;
+      worst = std::max(worst, std::abs(double(codec.decode(codec.encode(d))) - d));
+    }
+    EXPECT_LE(worst, codec.quantizationError() + 1e-7) << bits;  // + the float the decoded value is
+    EXPECT_GT(worst, 0.5 * codec.quantizationError()) << bits;  // the bound is tight
+  }
+  EXPECT_FALSE(DistanceCodec::supports(12));
+  EXPECT_EQ((DistanceCodec{.bits = 16, .distanceMax = 0}.scale()), 0.0);
+}
+
+TEST(DistanceCodec, EveryWayOfReadingTheCodesAgrees) {
+  for (const int bits : {8, 16}) {
+    const ReliefModel m = convert(makeIcosphere(3), {.gridSize = 4, .texels = 5, .distanceBits = bits});
+    ASSERT_GT(m.layerCount(), 0);
+    EXPECT_EQ(m.distanceCodec.bits, bits);
+    EXPECT_EQ(m.visitDistances([](const auto& maps) { return int(sizeof(maps.at(0, 0, 0, 0))); }), bits / 8);
+    std::size_t checked = 0, empty = 0;
+    m.visitDistanceCodes([&](const auto& codes) {
+      for (int l = 0; l < m.layerCount(); ++l)
+        for (int b = 0; b < m.texels; ++b)
+          for (int a = 0; a < m.texels; ++a) {
+            ASSERT_EQ(codes(l, a, b), m.distanceCode(l, a, b));
+            const float d = m.distance(l, a, b);
+            empty += std::isnan(d);
+            if (!std::isnan(d)) EXPECT_EQ(d, m.distanceCodec.decode(codes(l, a, b)));
+            ++checked;
+          }
+    });
+    EXPECT_EQ(checked, std::size_t(m.layerCount()) * m.texels * m.texels);
+    EXPECT_LT(empty, checked);
+  }
+}
+
 ReliefModel smallModel() {
   DisplacedSphereOptions o;
   o.subdivisions = 4;
@@ -120,7 +169,8 @@ TEST(ModelFile, SaveThenLoadIsBitExact) {
   EXPECT_EQ(b.texels, a.texels);
   EXPECT_EQ(b.originWS, a.originWS);
   EXPECT_EQ(b.cellSizeWS, a.cellSizeWS);
-  EXPECT_EQ(b.distanceMax, a.distanceMax);
+  EXPECT_EQ(b.distanceCodec.distanceMax, a.distanceCodec.distanceMax);
+  EXPECT_EQ(b.distanceCodec.bits, a.distanceCodec.bits);
   ASSERT_EQ(b.cells.size(), a.cells.size());
   EXPECT_EQ(std::memcmp(b.cells.data(), a.cells.data(), a.cells.size() * sizeof(CellRecord)), 0);
   auto same = [](const auto& x, const auto& y) {

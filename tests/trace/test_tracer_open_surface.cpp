@@ -132,7 +132,7 @@ TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
       for (int b = 0; b < model.texels; ++b)
         for (int a = 0; a < model.texels; ++a)
           if (model.distance(layer, a, b) > 0.5f) {
-            model.distances16.at(a, b, layer, 0) = std::uint16_t(model.emptyCode());
+            model.distances16.at(a, b, layer, 0) = std::uint16_t(model.distanceCodec.emptyCode());
             ++removed;
           }
     }

@@ -99,7 +99,7 @@ inline int checkConversion(const cells::CellComplex& complex, const ConvertOptio
   if (options.texels != 0 && (options.texels < 2 || options.texels > 1025))
     throw Error(ErrorKind::InvalidArgument,
                 "texels T = " + std::to_string(options.texels) + " is out of range (2 to 1025)");
-  if (options.distanceBits != 16 && options.distanceBits != 8)
+  if (!DistanceCodec::supports(options.distanceBits))
     throw Error(ErrorKind::InvalidArgument, "distance bits must be 8 or 16");
   const int n = complex.gridSize();
   const int T = options.texels != 0 ? options.texels : defaultTexels(n);
@@ -271,7 +271,7 @@ inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::ve
   model.originWS = complex.boundsWS().min;
   model.cellSizeWS = complex.cellSizeWS();
   model.texels = T;
-  model.distanceBits = options.distanceBits;
+  model.distanceCodec.bits = options.distanceBits;
   model.normalFormat = signals.normals ? options.normals : NormalFormat::None;
   model.colorFormat = signals.colors ? ColorFormat::Rgba8 : ColorFormat::None;
   std::uint32_t layers = 0;
@@ -296,10 +296,11 @@ inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::ve
     for (const float d : s.distance)
       if (!std::isnan(d)) maxDistance = std::max(maxDistance, d);
   }
-  model.distanceMax = maxDistance > 0 ? maxDistance : 1.0f;
+  model.distanceCodec.distanceMax = maxDistance > 0 ? maxDistance : 1.0f;
   if (layers > 0) {
-    if (model.distanceBits == 16) model.distances16 = ImageArray<std::uint16_t>(T, T, int(layers), 1);
-    else model.distances8 = ImageArray<std::uint8_t>(T, T, int(layers), 1);
+    model.visitDistances([&](auto& maps) {
+      maps = std::decay_t<decltype(maps)>(T, T, int(layers), 1);
+    });
     if (model.normalFormat == NormalFormat::Octahedral16)
       model.normals16 = ImageArray<std::uint16_t>(T, T, int(layers), 2);
     if (model.normalFormat == NormalFormat::Rgba8) model.normals8 = ImageArray<std::uint8_t>(T, T, int(layers), 4);
@@ -313,7 +314,7 @@ inline ReliefModel layOutLayers(const cells::CellComplex& complex, const std::ve
 inline std::pair<std::size_t, std::size_t> quantizeCell(ReliefModel& model, const CellRecord& r,
                                                         const CellSamples& s) {
   const int T = model.texels;
-  const double codeScale = double(model.maxCode()) / double(model.distanceMax);
+  const DistanceCodec& codec = model.distanceCodec;
   std::size_t filled = 0, empty = 0;
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
@@ -325,12 +326,11 @@ inline std::pair<std::size_t, std::size_t> quantizeCell(ReliefModel& model, cons
           const std::size_t k = (std::size_t(slot) * T + b) * T + a;
           const float d = s.distance[k];
           const bool hasSurface = !std::isnan(d);
-          const std::uint32_t code =
-              hasSurface ? std::min<std::uint32_t>(model.maxCode(), std::uint32_t(std::lround(d * codeScale)))
-                         : model.emptyCode();
+          const std::uint32_t code = hasSurface ? codec.encode(d) : codec.emptyCode();
           (hasSurface ? filled : empty)++;
-          if (model.distanceBits == 16) model.distances16.at(a, b, layer, 0) = std::uint16_t(code);
-          else model.distances8.at(a, b, layer, 0) = std::uint8_t(code);
+          model.visitDistances([&](auto& maps) {
+            maps.at(a, b, layer, 0) = typename std::decay_t<decltype(maps)>::Scalar(code);
+          });
           if (!hasSurface) continue;
           if (model.normalFormat == NormalFormat::Octahedral16) {
             const Vec2f e = octahedralEncode(s.normal[k]);

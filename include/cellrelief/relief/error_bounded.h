@@ -51,7 +51,7 @@ inline ErrorBoundResult convertWithErrorBound(const TriangleMesh& input, const E
   // A flat mesh is modelled as a slab (flat_mesh.h); the error is still measured against the input.
   const std::optional<TriangleMesh> slab = slabIfFlat(input);
   const TriangleMesh& mesh = slab ? *slab : input;
-  const std::size_t bytesPerSample = std::size_t(o.convert.distanceBits / 8) +
+  const std::size_t bytesPerSample = DistanceCodec{.bits = o.convert.distanceBits}.bytesPerCode() +
                                      (o.convert.normals != NormalFormat::None && mesh.hasNormals() ? 4 : 0) +
                                      (o.convert.colors && mesh.hasColors() ? 4 : 0);
   // One BVH and one complex per N serve every candidate (each N is tried with several T).

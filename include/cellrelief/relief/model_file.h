@@ -76,10 +76,10 @@ inline void writeRelief(const ReliefModel& model, const std::filesystem::path& p
   h.headerBytes = sizeof(h);
   h.gridSize = model.gridSize;
   h.texels = model.texels;
-  h.distanceBits = std::uint8_t(model.distanceBits);
+  h.distanceBits = std::uint8_t(model.distanceCodec.bits);
   h.normalFormat = std::uint8_t(model.normalFormat);
   h.colorFormat = std::uint8_t(model.colorFormat);
-  h.distanceMax = model.distanceMax;
+  h.distanceMax = model.distanceCodec.distanceMax;
   for (int a = 0; a < 3; ++a) h.originWS[a] = model.originWS[a];
   h.cellSizeWS = model.cellSizeWS;
   h.cellCount = model.cells.size();
@@ -87,7 +87,7 @@ inline void writeRelief(const ReliefModel& model, const std::filesystem::path& p
   const std::span<const char> cells(reinterpret_cast<const char*>(model.cells.data()),
                                     model.cells.size() * sizeof(CellRecord));
   const std::span<const char> distances =
-      model.distanceBits == 16 ? detail::bytesOf(model.distances16) : detail::bytesOf(model.distances8);
+      model.visitDistances([](const auto& maps) { return detail::bytesOf(maps); });
   const std::span<const char> normals = model.normalFormat == NormalFormat::Octahedral16
                                             ? detail::bytesOf(model.normals16)
                                             : detail::bytesOf(model.normals8);
@@ -135,7 +135,7 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   const std::uint64_t T = std::uint64_t(h.texels);
   const std::uint64_t layers = h.layerCount;
   const bool sane = h.gridSize >= 1 && h.gridSize <= 1024 && h.texels >= 2 && h.texels <= 1025 &&
-                    (h.distanceBits == 8 || h.distanceBits == 16) && h.normalFormat <= 2 &&
+                    DistanceCodec::supports(h.distanceBits) && h.normalFormat <= 2 &&
                     h.colorFormat <= 1 && h.cellCount <= (1ull << 30) && layers <= 6 * h.cellCount &&
                     layers <= std::uint64_t(std::numeric_limits<int>::max()) &&
                     std::isfinite(h.distanceMax) && h.distanceMax > 0 && h.cellSizeWS > 0;
@@ -144,7 +144,7 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   const std::uint64_t normalBytesPerSample =
       h.normalFormat == 2 ? 4 : (h.normalFormat == 1 ? 4 : 0);
   if (h.cellBytes != h.cellCount * sizeof(CellRecord) ||
-      h.distanceBytes != samples * (h.distanceBits / 8) ||
+      h.distanceBytes != samples * DistanceCodec{.bits = h.distanceBits}.bytesPerCode() ||
       h.normalBytes != samples * normalBytesPerSample || h.colorBytes != samples * (h.colorFormat ? 4 : 0))
     fail("corrupted header (section sizes disagree with the counts)");
   const std::uint64_t expected =
@@ -156,10 +156,9 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   ReliefModel m;
   m.gridSize = h.gridSize;
   m.texels = h.texels;
-  m.distanceBits = h.distanceBits;
+  m.distanceCodec = {.bits = h.distanceBits, .distanceMax = h.distanceMax};
   m.normalFormat = NormalFormat(h.normalFormat);
   m.colorFormat = ColorFormat(h.colorFormat);
-  m.distanceMax = h.distanceMax;
   m.originWS = Vec3d(h.originWS[0], h.originWS[1], h.originWS[2]);
   m.cellSizeWS = h.cellSizeWS;
   std::uint32_t crc = detail::crc32(&h, sizeof h);
@@ -172,13 +171,10 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   readInto(reinterpret_cast<char*>(m.cells.data()), h.cellBytes);
   const int L = int(layers);
   if (layers > 0) {
-    if (m.distanceBits == 16) {
-      m.distances16 = ImageArray<std::uint16_t>(h.texels, h.texels, L, 1);
-      readInto(reinterpret_cast<char*>(m.distances16.levelData(0).data()), h.distanceBytes);
-    } else {
-      m.distances8 = ImageArray<std::uint8_t>(h.texels, h.texels, L, 1);
-      readInto(reinterpret_cast<char*>(m.distances8.levelData(0).data()), h.distanceBytes);
-    }
+    m.visitDistances([&](auto& maps) {
+      maps = std::decay_t<decltype(maps)>(h.texels, h.texels, L, 1);
+      readInto(reinterpret_cast<char*>(maps.levelData(0).data()), h.distanceBytes);
+    });
     if (m.normalFormat == NormalFormat::Octahedral16) {
       m.normals16 = ImageArray<std::uint16_t>(h.texels, h.texels, L, 2);
       readInto(reinterpret_cast<char*>(m.normals16.levelData(0).data()), h.normalBytes);

@@ -11,7 +11,8 @@
 /// A GPU samples it with texture coordinate (uv (T - 1) + 0.5) / T.
 ///
 /// Distances are in cell units (multiply by cellSizeWS for world units), quantized to 16 bits (or 8)
-/// over [0, distanceMax]; the largest code marks an empty sample (no surface projects there).
+/// over [0, distanceMax]; the largest code marks an empty sample (no surface projects there):
+/// DistanceCodec (distance_codec.h).
 /// Faces on which no surface projects get no layer at all.
 #pragma once
 
@@ -29,6 +30,7 @@
 #include "cellrelief/core/image.h"
 #include "cellrelief/core/math.h"
 #include "cellrelief/projection/choice.h"
+#include "cellrelief/relief/distance_codec.h"
 
 namespace cellrelief::relief {
 
@@ -113,8 +115,7 @@ struct ReliefModel {
   Vec3d originWS{0};       ///< the bounding cube's minimum corner
   double cellSizeWS = 0;
   int texels = 0;          ///< T: samples per side of a face
-  int distanceBits = 16;   ///< 16 or 8
-  float distanceMax = 0;   ///< distance of the largest non-empty code, in cell units
+  DistanceCodec distanceCodec;  ///< 8 or 16 bits over [0, distanceMax] cell units
   NormalFormat normalFormat = NormalFormat::None;
   ColorFormat colorFormat = ColorFormat::None;
   std::vector<CellRecord> cells;    ///< sorted by (k, j, i)
@@ -124,25 +125,35 @@ struct ReliefModel {
   ImageArray<std::uint8_t> normals8;      ///< Rgba8: 4 channels
   ImageArray<std::uint8_t> colors;        ///< Rgba8: 4 channels
 
-  int layerCount() const {
-    return distanceBits == 16 ? (distances16.isEmpty() ? 0 : distances16.layers())
-                              : (distances8.isEmpty() ? 0 : distances8.layers());
+  /// Calls f with the distance layers of the model's width (distances16 or distances8).
+  template <class F>
+  decltype(auto) visitDistances(F&& f) const {
+    return distanceCodec.bits == 16 ? f(distances16) : f(distances8);
   }
-  std::uint32_t emptyCode() const { return distanceBits == 16 ? 65535u : 255u; }
-  /// Code that stands for distanceMax.
-  std::uint32_t maxCode() const { return emptyCode() - 1; }
+  template <class F>
+  decltype(auto) visitDistances(F&& f) {
+    return distanceCodec.bits == 16 ? f(distances16) : f(distances8);
+  }
+  /// Calls f with DistanceCodes over the level-0 codes: the width is chosen here, once.
+  template <class F>
+  decltype(auto) visitDistanceCodes(F&& f) const {
+    return visitDistances([&](const auto& maps) {
+      using Code = typename std::decay_t<decltype(maps)>::Scalar;
+      return f(DistanceCodes<Code>{maps.isEmpty() ? nullptr : maps.levelData(0).data(), std::size_t(texels)});
+    });
+  }
+
+  int layerCount() const {
+    return visitDistances([](const auto& maps) { return maps.isEmpty() ? 0 : maps.layers(); });
+  }
 
   std::uint32_t distanceCode(int layer, int a, int b) const {
-    return distanceBits == 16 ? distances16.at(a, b, layer, 0) : distances8.at(a, b, layer, 0);
+    return visitDistances([&](const auto& maps) -> std::uint32_t { return maps.at(a, b, layer, 0); });
   }
   /// Distance in cell units at sample (a, b) of a layer; NaN when empty.
-  float distance(int layer, int a, int b) const {
-    const std::uint32_t code = distanceCode(layer, a, b);
-    if (code == emptyCode()) return std::numeric_limits<float>::quiet_NaN();
-    return float(double(code) / double(maxCode()) * double(distanceMax));
-  }
+  float distance(int layer, int a, int b) const { return distanceCodec.decode(distanceCode(layer, a, b)); }
   /// Largest error of the distance quantization, in cell units.
-  double quantizationError() const { return 0.5 * double(distanceMax) / double(maxCode()); }
+  double quantizationError() const { return distanceCodec.quantizationError(); }
 
   Vec3f normal(int layer, int a, int b) const {
     switch (normalFormat) {

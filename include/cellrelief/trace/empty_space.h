@@ -41,16 +41,39 @@ class EmptySpacePyramid {
       mLayerStride += std::size_t(size) * std::size_t(size);
     }
     mCodes.assign(mLayerStride * std::size_t(mLayers), kEmpty);
-    const std::uint32_t empty = model.emptyCode();
+    mCodec = model.distanceCodec;
+    model.visitDistanceCodes([&](const auto& codes) { build(codes, base); });
+  }
+
+  static constexpr std::uint16_t kEmpty = 0xffffu;
+
+  int levels() const { return int(mSizes.size()); }
+  /// Texel cells per side at a level (level 0: T - 1).
+  int size(int level) const { return mSizes[level]; }
+  /// Smallest code over a node of level >= 1; a code >= the model's empty code means no surface
+  /// under it.
+  std::uint32_t code(int layer, int level, int a, int b) const {
+    return mCodes[std::size_t(layer) * mLayerStride + mOffsets[level] +
+                  std::size_t(b) * mSizes[level] + a];
+  }
+  bool isEmptyCode(std::uint32_t c) const { return mCodec.isEmpty(c); }
+  /// Distance (cell units) of a code, as ReliefModel::distance dequantizes it.
+  double toDistance(std::uint32_t c) const { return double(c) * mCodec.scale(); }
+  std::size_t byteSize() const { return mCodes.size() * sizeof(std::uint16_t); }
+
+ private:
+  /// Level 0 from the model's codes (an empty corner makes the whole texel cell empty for the
+  /// tracer), then each level the minimum of four nodes below.
+  template <class Codes>
+  void build(const Codes& codes, int base) {
     std::vector<std::uint16_t> level0(std::size_t(base) * base);
     for (int layer = 0; layer < mLayers; ++layer) {
       for (int b = 0; b < base; ++b)
         for (int a = 0; a < base; ++a) {
-          const std::uint32_t c[4] = {model.distanceCode(layer, a, b), model.distanceCode(layer, a + 1, b),
-                                      model.distanceCode(layer, a, b + 1),
-                                      model.distanceCode(layer, a + 1, b + 1)};
-          // An empty corner makes the whole texel cell empty for the tracer.
-          const bool anyEmpty = c[0] == empty || c[1] == empty || c[2] == empty || c[3] == empty;
+          const std::uint32_t c[4] = {codes(layer, a, b), codes(layer, a + 1, b), codes(layer, a, b + 1),
+                                      codes(layer, a + 1, b + 1)};
+          const bool anyEmpty = mCodec.isEmpty(c[0]) || mCodec.isEmpty(c[1]) || mCodec.isEmpty(c[2]) ||
+                                mCodec.isEmpty(c[3]);
           level0[std::size_t(b) * base + a] =
               anyEmpty ? kEmpty : std::uint16_t(std::min({c[0], c[1], c[2], c[3]}));
         }
@@ -69,26 +92,8 @@ class EmptySpacePyramid {
           }
       }
     }
-    mEmptyCode = model.emptyCode();
-    mCodeToDistance = model.maxCode() > 0 ? double(model.distanceMax) / double(model.maxCode()) : 0.0;
   }
 
-  static constexpr std::uint16_t kEmpty = 0xffffu;
-
-  int levels() const { return int(mSizes.size()); }
-  /// Texel cells per side at a level (level 0: T - 1).
-  int size(int level) const { return mSizes[level]; }
-  /// Smallest code over a node of level >= 1; a code >= emptyCode() means no surface under it.
-  std::uint32_t code(int layer, int level, int a, int b) const {
-    return mCodes[std::size_t(layer) * mLayerStride + mOffsets[level] +
-                  std::size_t(b) * mSizes[level] + a];
-  }
-  bool isEmptyCode(std::uint32_t c) const { return c >= mEmptyCode; }
-  /// Distance (cell units) of a code, as ReliefModel::distance dequantizes it.
-  double toDistance(std::uint32_t c) const { return double(c) * mCodeToDistance; }
-  std::size_t byteSize() const { return mCodes.size() * sizeof(std::uint16_t); }
-
- private:
   std::uint16_t* levelData(int layer, int level) {
     return mCodes.data() + std::size_t(layer) * mLayerStride + mOffsets[level];
   }
@@ -98,8 +103,7 @@ class EmptySpacePyramid {
   std::vector<std::size_t> mOffsets;
   std::size_t mLayerStride = 0;
   std::vector<std::uint16_t> mCodes;
-  std::uint32_t mEmptyCode = 0xffffu;
-  double mCodeToDistance = 0;
+  relief::DistanceCodec mCodec;
 };
 
 }  // namespace cellrelief::trace

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file relief_tracer.h
 /// Ray casting of a relief model (Apaza & Andujar, 3.5.2) on the CPU: the reference that the GPU
-/// backends follow. A 3D DDA walks the ray through the grid and stops only at grey cells (looked up
+/// backends follow. A 3D DDA (grid_dda.h) walks the ray through the grid and stops only at grey cells (looked up
 /// in a sparse OpenVDB grid through a cached accessor; white and black cells cost one lookup).
 /// Inside a grey cell the ray segment is searched for a sign change of
 ///   f(p) = |p - P'(p)| - stored distance at P'(p),
@@ -55,6 +55,7 @@
 #include "cellrelief/core/ray.h"
 #include "cellrelief/relief/relief_model.h"
 #include "cellrelief/trace/empty_space.h"
+#include "cellrelief/trace/grid_dda.h"
 #include "cellrelief/trace/trace_options.h"
 
 namespace cellrelief::trace {
@@ -93,15 +94,9 @@ class ReliefTracer {
                       Vec3<T>(model.originWS + Vec3d(model.cellSizeWS * model.gridSize)));
     mOrigin = Vec3<T>(model.originWS);
     mCellSize = T(model.cellSizeWS);
-    mDistanceScale = model.maxCode() > 0 ? T(double(model.distanceMax) / double(model.maxCode())) : T(0);
+    mDistanceScale = T(model.distanceCodec.scale());
     if (options.skipEmptySpace) mPyramid = EmptySpacePyramid(model);
     mOpenModel = model.openSurface();
-    if (model.layerCount() > 0) {
-      if (model.distanceBits == 16)
-        mCodes16 = model.distances16.levelData(0).data();
-      else
-        mCodes8 = model.distances8.levelData(0).data();
-    }
   }
 
   const relief::ReliefModel& model() const { return mModel; }
@@ -119,7 +114,13 @@ class ReliefTracer {
   bool occluded(const Ray<T>& ray) const { return trace(ray, false).valid(); }
 
  private:
+  /// The texel width is chosen here, once per ray: below, reading a sample has no branch on it.
   Hit trace(const Ray<T>& input, bool shadeHit) const {
+    return mModel.visitDistanceCodes([&](const auto& codes) { return traceWith(codes, input, shadeHit); });
+  }
+
+  template <class Codes>
+  Hit traceWith(const Codes& codes, const Ray<T>& input, bool shadeHit) const {
     // The inverse direction is recomputed: the ray's fields are public and may disagree.
     Ray<T> ray = input;
     ray.setDirection(input.direction);
@@ -133,46 +134,23 @@ class ReliefTracer {
     if (!span.hit) return {};
     // Unregistered: a registered accessor takes a lock in the tree on creation, once per ray.
     auto acc = mGrid->getConstUnsafeAccessor();
-    const int n = mModel.gridSize;
-    const T h = mCellSize;
-    // DDA in index space, starting in the cell that holds the entry point.
-    const T tStart = span.t0;
-    const Vec3<T> entry = (ray.at(tStart) - mOrigin) / h;
-    Vec3i cell = glm::clamp(Vec3i(glm::floor(entry)), Vec3i(0), Vec3i(n - 1));
-    Vec3i step(0);
-    Vec3<T> tMax(std::numeric_limits<T>::infinity()), tDelta(std::numeric_limits<T>::infinity());
-    for (int a = 0; a < 3; ++a) {
-      // The inverse is computed here, not taken from the ray: a denormal component overflows it
-      // (0 * inf would stall the walk), and such an axis is as good as a zero one.
-      const T d = ray.direction[a], inverse = T(1) / d;
-      if (d == 0 || !std::isfinite(inverse)) continue;
-      if (d > 0) {
-        step[a] = 1;
-        tMax[a] = ((cell[a] + 1) * h + mOrigin[a] - ray.origin[a]) * inverse;
-        tDelta[a] = h * inverse;
-      } else {
-        step[a] = -1;
-        tMax[a] = (cell[a] * h + mOrigin[a] - ray.origin[a]) * inverse;
-        tDelta[a] = -h * inverse;
-      }
-    }
+    GridDda<T> walk(ray, mOrigin, mCellSize, mModel.gridSize, span.t0, span.t1);
     // The side of the surface the ray is on, carried from cell to cell: outside when it enters
     // the grid from outside (the grid holds the whole mesh), unknown when it starts within it.
     // White and black cells hold no surface, so they keep the side.
     Side side{span.t0 > ray.tmin ? Side::Outside : Side::Unknown};
-    T tCell = tStart;
     std::uint32_t steps = 0;  // over every grey cell searched (a search that misses reports its steps too)
-    while (true) {
-      const T tExit = std::min({tMax.x, tMax.y, tMax.z, span.t1});
+    do {
+      const Vec3i& cell = walk.cell();
       const std::int32_t index = acc.getValue(openvdb::Coord(cell.x, cell.y, cell.z));
       if (index >= 0) {
         const relief::CellRecord& record = mModel.cells[index];
         const auto proj = record.projection<T>();
         const CellFrame frame = cellFrame(ray, record);
         Hit hit = proj.visit([&](const auto& p) {
-          Hit found = searchCell(p, record, index, ray, frame, tCell, tExit, side);
+          Hit found = searchCell(codes, p, record, index, ray, frame, walk.tEntry(), walk.tExit(), side);
           if (found.valid() && shadeHit) {
-            shade(p, record, found);
+            shade(codes, p, record, found);
             if (found.normal == Vec3f(0)) found.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
           }
           return found;
@@ -185,13 +163,7 @@ class ReliefTracer {
       } else {
         side.exitField = std::numeric_limits<T>::infinity();
       }
-      if (tExit >= span.t1) break;
-      const int axis = tMax.x < tMax.y ? (tMax.x < tMax.z ? 0 : 2) : (tMax.y < tMax.z ? 1 : 2);
-      cell[axis] += step[axis];
-      if (cell[axis] < 0 || cell[axis] >= n) break;
-      tCell = tMax[axis];
-      tMax[axis] += tDelta[axis];
-    }
+    } while (walk.next());
     return missAfter(steps);
   }
 
@@ -223,29 +195,22 @@ class ReliefTracer {
     return {(ray.origin - cellOrigin) / mCellSize, ray.direction / mCellSize};
   }
 
-  /// The distance code of sample (a, b) of a layer, read straight from the level-0 texels (the
-  /// inner loop's read: ImageArray::at's general indexing costs more than the search around it).
-  std::uint32_t sampleCode(int layer, int a, int b) const {
-    const std::size_t i = (std::size_t(layer) * std::size_t(mModel.texels) + std::size_t(b)) *
-                              std::size_t(mModel.texels) + std::size_t(a);
-    return mCodes16 ? mCodes16[i] : mCodes8[i];
-  }
-
   /// Bilinearly filtered stored distance at face coordinates, or nullopt when one of the four
   /// samples is empty (the rim of the surface's projection: the field changes side there).
-  std::optional<T> stored(int layer, const Vec2<T>& uv) const {
+  template <class Codes>
+  std::optional<T> stored(const Codes& codes, int layer, const Vec2<T>& uv) const {
     const int texels = mModel.texels;
     // Written so that NaN lands on 0: an index from NaN would be undefined.
     const T x = (uv.x > T(0) ? std::min(uv.x, T(1)) : T(0)) * T(texels - 1);
     const T y = (uv.y > T(0) ? std::min(uv.y, T(1)) : T(0)) * T(texels - 1);
     const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
     const T fx = x - T(a0), fy = y - T(b0);
-    const std::uint32_t empty = mModel.emptyCode();
-    const std::uint32_t c00 = sampleCode(layer, a0, b0);
-    const std::uint32_t c10 = sampleCode(layer, a0 + 1, b0);
-    const std::uint32_t c01 = sampleCode(layer, a0, b0 + 1);
-    const std::uint32_t c11 = sampleCode(layer, a0 + 1, b0 + 1);
-    if (c00 == empty || c10 == empty || c01 == empty || c11 == empty) return std::nullopt;
+    const relief::DistanceCodec& codec = mModel.distanceCodec;
+    const std::uint32_t c00 = codes(layer, a0, b0);
+    const std::uint32_t c10 = codes(layer, a0 + 1, b0);
+    const std::uint32_t c01 = codes(layer, a0, b0 + 1);
+    const std::uint32_t c11 = codes(layer, a0 + 1, b0 + 1);
+    if (codec.isEmpty(c00) || codec.isEmpty(c10) || codec.isEmpty(c01) || codec.isEmpty(c11)) return std::nullopt;
     const T top = T(c00) + fx * (T(c10) - T(c00));
     const T bottom = T(c01) + fx * (T(c11) - T(c01));
     return (top + fy * (bottom - top)) * mDistanceScale;
@@ -257,15 +222,15 @@ class ReliefTracer {
   /// space, so there "beyond" is inside and a line with no surface is outside. An interior cell
   /// (case 0) projects from its centre; a line with no surface lies on the centre's side, and a
   /// line with surface has the centre's side beyond it (CellRecord::centreInside says which).
-  template <class P>
-  T field(const P& proj, const relief::CellRecord& r, const Vec3<T>& p,
+  template <class Codes, class P>
+  T field(const Codes& codes, const P& proj, const relief::CellRecord& r, const Vec3<T>& p,
           projection::FacePoint<T>& fp) const {
     fp = proj.project(glm::clamp(p, Vec3<T>(0), Vec3<T>(1)));
     const bool interior = r.configuration == 0;
     const T emptyValue = interior && r.centreInside() ? kEmptyField : -kEmptyField;
     const int layer = r.layerOf(fp.face);
     if (layer < 0) return emptyValue;
-    const std::optional<T> s = stored(layer, fp.uv);
+    const std::optional<T> s = stored(codes, layer, fp.uv);
     if (!s) return emptyValue;
     return interior && !r.centreInside() ? *s - fp.distance : fp.distance - *s;
   }
@@ -275,12 +240,12 @@ class ReliefTracer {
   /// shared with the previous cell, or thinner than a sample there, shows no sign change inside
   /// either cell; the side carried across the face catches it: entering on the other side of
   /// the surface is a hit at the face.
-  template <class P>
-  Hit searchCell(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+  template <class Codes, class P>
+  Hit searchCell(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
                  const CellFrame& frame, T t0, T t1, Side& side) const {
     auto local = [&](T t) { return frame.origin + t * frame.direction; };
     projection::FacePoint<T> fp;
-    const T fIn = field(proj, r, local(t0), fp);
+    const T fIn = field(codes, proj, r, local(t0), fp);
     // A crossing at the face unless both cells read a real distance far from the surface there:
     // then they disagree because one of them misreads the side (a projection line that meets the
     // surface twice, past the occlusion the grid size allows), and the entered cell is trusted.
@@ -295,31 +260,31 @@ class ReliefTracer {
     // The linear search starts where the field was just read and ends where the next cell's
     // side is decided: it hands both values over instead of reading them again.
     T fOut = std::numeric_limits<T>::quiet_NaN();
-    Hit hit = searchInside(proj, r, index, ray, frame, t0, t1, fIn, fp, fOut);
+    Hit hit = searchInside(codes, proj, r, index, ray, frame, t0, t1, fIn, fp, fOut);
     if (!hit.valid()) {
-      if (std::isnan(fOut)) fOut = field(proj, r, local(t1), fp);
+      if (std::isnan(fOut)) fOut = field(codes, proj, r, local(t1), fp);
       side.where = mOpenModel ? Side::Unknown : fOut > 0 ? Side::Inside : Side::Outside;
       side.exitField = std::abs(fOut);
     }
     return hit;
   }
 
-  template <class P>
-  Hit searchInside(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+  template <class Codes, class P>
+  Hit searchInside(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
                    const CellFrame& frame, T t0, T t1, T fStart,
                    const projection::FacePoint<T>& fpStart, T& fEnd) const {
     constexpr bool kSingleDirection = std::is_same_v<P, projection::ParallelProjection<T>> ||
                                       std::is_same_v<P, projection::PlanarProjection<T>>;
     if constexpr (kSingleDirection) {
-      if (mOptions.skipEmptySpace) return skipSearch(proj, r, index, ray, frame, t0, t1);
+      if (mOptions.skipEmptySpace) return skipSearch(codes, proj, r, index, ray, frame, t0, t1);
     }
-    return linearBinarySearch(proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd);
+    return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd);
   }
 
   /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
   /// sample (t1) when nothing is hit.
-  template <class P>
-  Hit linearBinarySearch(const P& proj, const relief::CellRecord& r, std::int32_t index,
+  template <class Codes, class P>
+  Hit linearBinarySearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
                          const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,
                          const projection::FacePoint<T>& fpStart, T& fEnd) const {
     auto local = [&](T t) { return frame.origin + t * frame.direction; };
@@ -343,13 +308,13 @@ class ReliefTracer {
     const bool open = r.openSurface();
     for (int i = 1; i <= linear; ++i) {
       const T t = t0 + (t1 - t0) * T(i) / T(linear);
-      const T f = field(proj, r, local(t), fp);
+      const T f = field(codes, proj, r, local(t), fp);
       ++steps;
       if ((fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f)))) {
         T lo = tPrev, hi = t, fLo = fPrev;
         for (int k = 0; k < mOptions.binarySteps; ++k) {
           const T mid = T(0.5) * (lo + hi);
-          const T fm = field(proj, r, local(mid), fp);
+          const T fm = field(codes, proj, r, local(mid), fp);
           ++steps;
           if ((fm > 0) == (fLo > 0)) {
             lo = mid;
@@ -358,7 +323,7 @@ class ReliefTracer {
             hi = mid;
           }
         }
-        field(proj, r, local(hi), fp);
+        field(codes, proj, r, local(hi), fp);
         return makeHit(index, ray, hi, fp, steps);
       }
       fPrev = f;
@@ -370,11 +335,11 @@ class ReliefTracer {
 
   /// Parallel and planar cells: walk the layer's min pyramid, meet the bilinear surface exactly
   /// in the texel cells that cannot be skipped. A planar cell is two parallel half-cells.
-  template <class P>
-  Hit skipSearch(const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
+  template <class Codes, class P>
+  Hit skipSearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index, const Ray<T>& ray,
                  const CellFrame& frame, T t0, T t1) const {
     if constexpr (std::is_same_v<P, projection::ParallelProjection<T>>) {
-      return skipSearchFace(r, index, ray, frame, proj.face, t0, t1, T(1));
+      return skipSearchFace(codes, r, index, ray, frame, proj.face, t0, t1, T(1));
     } else {
       const int axis = proj.axis;
       const T o = frame.origin[axis], d = frame.direction[axis];
@@ -385,17 +350,18 @@ class ReliefTracer {
       if (!(tMid > t0 && tMid < t1)) {
         // One half only: decided by the segment's middle, which rounding cannot put on the plane.
         const int face = 2 * axis + (o + T(0.5) * (t0 + t1) * d >= T(0.5) ? 1 : 0);
-        return skipSearchFace(r, index, ray, frame, face, t0, t1, T(0.5));
+        return skipSearchFace(codes, r, index, ray, frame, face, t0, t1, T(0.5));
       }
-      const Hit hit = skipSearchFace(r, index, ray, frame, first, t0, tMid, T(0.5));
+      const Hit hit = skipSearchFace(codes, r, index, ray, frame, first, t0, tMid, T(0.5));
       if (hit.valid()) return hit;
-      Hit second = skipSearchFace(r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
+      Hit second = skipSearchFace(codes, r, index, ray, frame, first ^ 1, tMid, t1, T(0.5));
       second.steps += hit.steps;
       return second;
     }
   }
 
-  Hit skipSearchFace(const relief::CellRecord& r, std::int32_t index,
+  template <class Codes>
+  Hit skipSearchFace(const Codes& codes, const relief::CellRecord& r, std::int32_t index,
                      const Ray<T>& ray, const CellFrame& frame, int face, T t0, T t1,
                      T depthLimit) const {
     const int layer = r.layerOf(face);
@@ -431,7 +397,7 @@ class ReliefTracer {
     // texel cell with surface decides it instead of making a crossing.
     const bool open = r.openSurface();
     bool inside = false, known = true;
-    if (const std::optional<T> d = stored(layer, Vec2<T>(p0[ua], p0[va]))) inside = depthAt(0) > *d;
+    if (const std::optional<T> d = stored(codes, layer, Vec2<T>(p0[ua], p0[va]))) inside = depthAt(0) > *d;
     else known = !open;
     constexpr T kProgress = T(constants::kSkipProgress);  // a floor on each advance, against rounding stalls
     while (s < T(1)) {
@@ -460,11 +426,11 @@ class ReliefTracer {
       if (level > 0) {
         code = mPyramid.code(layer, level, ix, iy);
       } else {
-        const std::uint32_t c[4] = {sampleCode(layer, ix, iy), sampleCode(layer, ix + 1, iy),
-                                    sampleCode(layer, ix, iy + 1), sampleCode(layer, ix + 1, iy + 1)};
-        const std::uint32_t empty = mModel.emptyCode();
-        code = c[0] == empty || c[1] == empty || c[2] == empty || c[3] == empty
-                   ? empty
+        const std::uint32_t c[4] = {codes(layer, ix, iy), codes(layer, ix + 1, iy),
+                                    codes(layer, ix, iy + 1), codes(layer, ix + 1, iy + 1)};
+        const relief::DistanceCodec& codec = mModel.distanceCodec;
+        code = codec.isEmpty(c[0]) || codec.isEmpty(c[1]) || codec.isEmpty(c[2]) || codec.isEmpty(c[3])
+                   ? codec.emptyCode()
                    : std::min({c[0], c[1], c[2], c[3]});
       }
       const T deepest = std::max(depthAt(s), depthAt(std::min(sExit, T(1))));
@@ -488,10 +454,10 @@ class ReliefTracer {
       }
       // A texel cell: f(s) = depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
       const T s1 = std::min(sExit, T(1));
-      const T d00 = T(sampleCode(layer, ix, iy)) * mDistanceScale;
-      const T d10 = T(sampleCode(layer, ix + 1, iy)) * mDistanceScale;
-      const T d01 = T(sampleCode(layer, ix, iy + 1)) * mDistanceScale;
-      const T d11 = T(sampleCode(layer, ix + 1, iy + 1)) * mDistanceScale;
+      const T d00 = T(codes(layer, ix, iy)) * mDistanceScale;
+      const T d10 = T(codes(layer, ix + 1, iy)) * mDistanceScale;
+      const T d01 = T(codes(layer, ix, iy + 1)) * mDistanceScale;
+      const T d11 = T(codes(layer, ix + 1, iy + 1)) * mDistanceScale;
       const T ax = x0 - T(ix), ay = y0 - T(iy);  // local coordinates at s = 0, slopes dx, dy
       const T e = d00 - d10 - d01 + d11;
       // bilinear = d00 + (d10 - d00) fx + (d01 - d00) fy + e fx fy with fx = ax + dx s, fy = ay + dy s
@@ -563,8 +529,8 @@ class ReliefTracer {
 
   /// Shading normal and color at a hit: from the maps when stored, else from the unprojected
   /// neighbouring samples (the local surface of the distance map).
-  template <class P>
-  void shade(const P& proj, const relief::CellRecord& r, Hit& hit) const {
+  template <class Codes, class P>
+  void shade(const Codes& codes, const P& proj, const relief::CellRecord& r, Hit& hit) const {
     const int layer = r.layerOf(hit.face);
     if (layer < 0) return;
     const int texels = mModel.texels;
@@ -572,13 +538,13 @@ class ReliefTracer {
     int b = std::clamp(int(std::lround(hit.texel.y)), 0, texels - 1);
     // A hit at the rim of the surface's projection (a crossing found at a cell face or a texel
     // edge) can round to an empty sample: shade from the nearest filled one within two samples.
-    if (sampleCode(layer, a, b) == mModel.emptyCode()) {
+    if (mModel.distanceCodec.isEmpty(codes(layer, a, b))) {
       int best = std::numeric_limits<int>::max(), bestA = a, bestB = b;
       const int radius = constants::kShadeSearchRadius;
       for (int y = std::max(0, b - radius); y <= std::min(texels - 1, b + radius); ++y)
         for (int x = std::max(0, a - radius); x <= std::min(texels - 1, a + radius); ++x) {
           const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
-          if (d2 < best && sampleCode(layer, x, y) != mModel.emptyCode())
+          if (d2 < best && !mModel.distanceCodec.isEmpty(codes(layer, x, y)))
             best = d2, bestA = x, bestB = y;
         }
       a = bestA;
@@ -624,8 +590,6 @@ class ReliefTracer {
   T mCellSize = 1;
   T mDistanceScale = 0;
   EmptySpacePyramid mPyramid;
-  const std::uint16_t* mCodes16 = nullptr;
-  const std::uint8_t* mCodes8 = nullptr;
   bool mOpenModel = false;  ///< ReliefModel::openSurface(): no side carried across cell faces
 };
 

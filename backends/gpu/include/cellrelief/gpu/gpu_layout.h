@@ -68,7 +68,7 @@ struct ModelInfo {
   float cellSize;
   float distanceScale;  ///< code to distance (cell units)
   float texelsMinus1;
-  float distanceMax;    ///< ReliefModel::distanceMax (cell units)
+  float distanceMax;    ///< DistanceCodec::distanceMax (cell units)
   float pad0;
   std::int32_t gridSize;
   std::int32_t texels;
@@ -224,9 +224,9 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     ModelInfo info{};
     for (int a = 0; a < 3; ++a) info.origin[a] = float(m.originWS[a]);
     info.cellSize = float(m.cellSizeWS);
-    info.distanceScale = m.maxCode() > 0 ? float(double(m.distanceMax) / double(m.maxCode())) : 0.0f;
+    info.distanceScale = float(m.distanceCodec.scale());
     info.texelsMinus1 = float(m.texels - 1);
-    info.distanceMax = m.distanceMax;
+    info.distanceMax = m.distanceCodec.distanceMax;
     info.gridSize = m.gridSize;
     info.texels = m.texels;
     info.openSurface = m.openSurface() ? 1 : 0;
@@ -234,7 +234,7 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     std::tie(info.hashOffset, info.hashMask) =
         detail::appendHashTable(m, info.cellOffset, out.hashSlots);
     out.cells.insert(out.cells.end(), m.cells.begin(), m.cells.end());
-    info.emptyCode = int(m.emptyCode());
+    info.emptyCode = int(m.distanceCodec.emptyCode());
     info.normalFormat = int(m.normalFormat);
     info.colorFormat = int(m.colorFormat);
     info.layerCount = m.layerCount();
