@@ -119,8 +119,8 @@ struct ReliefModel {
   NormalFormat normalFormat = NormalFormat::None;
   ColorFormat colorFormat = ColorFormat::None;
   std::vector<CellRecord> cells;    ///< sorted by (k, j, i)
-  ImageArray<std::uint16_t> distances16;  ///< when distanceBits == 16: 1 channel
-  ImageArray<std::uint8_t> distances8;    ///< when distanceBits == 8: 1 channel
+  ImageArray<std::uint16_t> distances16;  ///< when distanceCodec.bits == 16: 1 channel
+  ImageArray<std::uint8_t> distances8;    ///< when distanceCodec.bits == 8: 1 channel
   ImageArray<std::uint16_t> normals16;    ///< Octahedral16: 2 channels
   ImageArray<std::uint8_t> normals8;      ///< Rgba8: 4 channels
   ImageArray<std::uint8_t> colors;        ///< Rgba8: 4 channels
