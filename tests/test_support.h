@@ -23,6 +23,14 @@ namespace cellrelief::test {
 
 inline std::filesystem::path dataDir() { return CELLRELIEF_DATA_DIR; }
 
+/// A build that runs tens of times slower than release (sanitizers or Debug): heavy tests run a
+/// smaller case there, which still reaches every code path; release runs the full one.
+#if defined(__SANITIZE_ADDRESS__) || !defined(NDEBUG)
+inline constexpr bool kSlowBuild = true;
+#else
+inline constexpr bool kSlowBuild = false;
+#endif
+
 /// Under CI (CI=true) missing data is a failure; elsewhere the test is skipped with the reason.
 inline bool inCI() {
   const char* ci = std::getenv("CI");

@@ -78,11 +78,8 @@ DepthAgreement traceAgainstMesh(const TriangleMesh& mesh, const relief::ReliefMo
   return result;
 }
 
-#if defined(__SANITIZE_ADDRESS__) || !defined(NDEBUG)
-constexpr int kTurns = 1, kRays = 1000;  // sanitizers and Debug: one rotation, fewer rays
-#else
-constexpr int kTurns = 2, kRays = 3000;
-#endif
+// Sanitizers and Debug: one rotation, fewer rays.
+constexpr int kTurns = test::kSlowBuild ? 1 : 2, kRays = test::kSlowBuild ? 1000 : 3000;
 
 class TransformedMesh : public testing::TestWithParam<std::string> {};
 
