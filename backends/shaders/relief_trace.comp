@@ -5,7 +5,7 @@
 //  - CR_VULKAN or not (binding syntax),
 //  - the traversal constants, written from trace/trace_options.h (never typed here),
 //  - the variant, as constant bools: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection
-//    types present), CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP,
+//    types present), CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SKIP_CENTRAL,
 //    CR_SHADOWS, CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
 //    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels).
 //    OpenGL compiles them as plain constants, Vulkan as specialization constants of one SPIR-V
@@ -638,10 +638,277 @@ Hit skipSearch(float t0, float t1) {
   return second;
 }
 
+// ---- empty-space skipping in central cells (ReliefTracer::centralSkipSearch) -----------------
+
+// ReliefTracer::refineCrossing
+Hit refineCrossing(float lo, float hi, bool positiveLo, uint steps) {
+  FacePoint fp;
+  for (int k = 0; k < P.steps.z; ++k) {
+    const float mid = 0.5 * (lo + hi);
+    const float fm = field(localPoint(mid), fp);
+    ++steps;
+    if ((fm > 0.0) == positiveLo)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  field(localPoint(hi), fp);
+  return makeHit(hi, fp, steps);
+}
+
+// LinearRatio (n0 + n1 t) / (d0 + d1 t) as vec4(n0, n1, d0, d1).
+// `precise` here and below: the walk's node boundaries must round as the CPU's do, which fuses
+// no multiply-add (a driver may fuse them unless told not to).
+float ratioAt(vec4 c, float t) {
+  precise float n = c.x + c.y * t, d = c.z + c.w * t;
+  return n / d;
+}
+float ratioSolve(vec4 c, float value) {
+  precise float n = value * c.z - c.x, d = c.y - value * c.w;
+  return n / d;
+}
+float ratioDirection(vec4 c) {
+  precise float s = c.y * c.z - c.x * c.w;
+  return s;
+}
+
+// CentralRay: w(t) = w0 + t w1 from the centre (axial: the axis point) to the ray's point.
+vec3 gCentralCentre;
+vec3 gCentralW0;
+vec3 gCentralW1;
+int gCentralAxis;
+
+float centralReach(int face) { return (facePositive(face) ? 1.0 : 0.0) - axisOf(gCentralCentre, faceAxis(face)); }
+bool centralReachable(int face) { return faceAxis(face) != gCentralAxis && centralReach(face) != 0.0; }
+float centralRatio0(int face) { return axisOf(gCentralW0, faceAxis(face)) / centralReach(face); }
+float centralRatio1(int face) { return axisOf(gCentralW1, faceAxis(face)) / centralReach(face); }
+vec4 centralCoordinate(int face, int along) {
+  if (along == gCentralAxis) return vec4(axisOf(gLocalOrigin, along), axisOf(gLocalDirection, along), 1.0, 0.0);
+  const int a = faceAxis(face);
+  const float k = centralReach(face), c = axisOf(gCentralCentre, along);
+  precise float n0 = c * axisOf(gCentralW0, a) + k * axisOf(gCentralW0, along);
+  precise float n1 = c * axisOf(gCentralW1, a) + k * axisOf(gCentralW1, along);
+  return vec4(n0, n1, axisOf(gCentralW0, a), axisOf(gCentralW1, a));
+}
+
+// ReliefTracer::exitFaceAt
+int exitFaceAt(float t) {
+  int best = -1;
+  float bestRatio = -CR_INF, bestSlope = -CR_INF;
+  for (int f = 0; f < 6; ++f) {
+    if (!centralReachable(f)) continue;
+    precise float ratio = centralRatio0(f) + t * centralRatio1(f);
+    const float slope = centralRatio1(f);
+    if (ratio > bestRatio || (ratio == bestRatio && slope > bestSlope)) {
+      best = f;
+      bestRatio = ratio;
+      bestSlope = slope;
+    }
+  }
+  return best;
+}
+
+// ReliefTracer::faceChange: returns when, sets next.
+float faceChange(int face, float t, float tEnd, out int next) {
+  float when = tEnd;
+  next = -1;
+  for (int g = 0; g < 6; ++g) {
+    if (g == face || !centralReachable(g)) continue;
+    const float gap0 = centralRatio0(g) - centralRatio0(face), gap1 = centralRatio1(g) - centralRatio1(face);
+    if (!(gap1 > 0.0)) continue;
+    const float at = -gap0 / gap1;
+    if (at > t && at < when) {
+      when = at;
+      next = g;
+    }
+  }
+  return when;
+}
+
+bool gWalkPositive;  // ReliefTracer::WalkSide
+bool gWalkKnown;
+
+Hit centralHitAt(float t, uint steps) {
+  FacePoint fp;
+  field(localPoint(t), fp);
+  return makeHit(t, fp, steps);
+}
+
+// ReliefTracer::centralSkipFace; `enter` there is the block repeated at its two uses here.
+Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps) {
+  const int layer = layerOf(face);
+  if (layer < 0 || !(tb > ta)) {
+    ++steps;
+    if (layer >= 0) return noHit();
+    const bool tellsSide = !gOpenSurface, crossed = tellsSide && gWalkKnown && gWalkPositive;
+    gWalkPositive = false;
+    gWalkKnown = tellsSide;
+    return crossed ? centralHitAt(ta, steps) : noHit();
+  }
+  const float scale = float(gTexels - 1);
+  const vec4 u = centralCoordinate(face, nextAxis(faceAxis(face)));
+  const vec4 v = centralCoordinate(face, nextAxis(nextAxis(faceAxis(face))));
+  const float du = ratioDirection(u), dv = ratioDirection(v);
+  const float r0 = centralRatio0(face), r1 = centralRatio1(face);
+  const bool perspective = CR_PERSPECTIVE && (!CR_AXIAL || gProjection == CR_PROJ_PERSPECTIVE);
+  const float progress = CR_SKIP_PROGRESS * (tb - ta);
+  const int top = gPyramidLevels - 1;
+  const ivec3 tile = tileOrigin(layer);
+  const float edge = float(pyramidSize(0));
+  int level = top;
+  // The position in texel units: exactly the boundary where the walk crossed one (see the C++).
+  float t = ta;
+  precise float x = ratioAt(u, t) * scale, y = ratioAt(v, t) * scale;
+  if (previous >= 0) {  // on the edge shared with the previous face
+    const float plane = facePositive(previous) ? scale : 0.0;
+    if (faceAxis(previous) == nextAxis(faceAxis(face))) x = plane;
+    if (faceAxis(previous) == nextAxis(nextAxis(faceAxis(face)))) y = plane;
+  }
+  float xBoundary = 0.0, yBoundary = 0.0;
+  bool acrossU = false, acrossV = false;
+  while (t < tb) {
+    ++steps;
+    precise float floorStep = max(progress, CR_NUDGE_ULPS * CR_FLOAT_EPSILON * max(1.0, abs(t)));
+    const int size = 1 << level, nodes = pyramidSize(level);
+    if (isinf(x) || isinf(y) || isnan(x) || isnan(y)) {  // at the centre itself (0 / 0)
+      t = min(tb, t + floorStep);
+      x = ratioAt(u, t) * scale;
+      y = ratioAt(v, t) * scale;
+      continue;
+    }
+    const int ix = clamp(int(floor((x + nudge(x, du)) / float(size))), 0, nodes - 1);
+    const int iy = clamp(int(floor((y + nudge(y, dv)) / float(size))), 0, nodes - 1);
+    float tExit = tb;
+    acrossU = false;
+    acrossV = false;
+    xBoundary = float(du > 0.0 ? (ix + 1) * size : ix * size);
+    yBoundary = float(dv > 0.0 ? (iy + 1) * size : iy * size);
+    if (du != 0.0 && !(du > 0.0 ? x >= edge : x <= 0.0)) {
+      const float at = ratioSolve(u, xBoundary / scale);
+      precise float branchAt = u.z + u.w * at, branchHere = u.z + u.w * t;
+      if ((branchAt > 0.0) == (branchHere > 0.0) && at <= tExit) {
+        tExit = at;
+        acrossU = true;
+      }
+    }
+    if (dv != 0.0 && !(dv > 0.0 ? y >= edge : y <= 0.0)) {
+      const float at = ratioSolve(v, yBoundary / scale);
+      precise float branchAt = v.z + v.w * at, branchHere = v.z + v.w * t;
+      if ((branchAt > 0.0) == (branchHere > 0.0) && at <= tExit) {
+        if (at < tExit) acrossU = false;
+        tExit = at;
+        acrossV = true;
+      }
+    }
+    precise float least = t + floorStep;
+    if (!(tExit >= least)) {
+      tExit = least;
+      acrossU = false;
+      acrossV = false;
+    }
+    if (tExit >= tb) {
+      tExit = tb;
+      acrossU = false;
+      acrossV = false;
+    }
+    uint code;
+    if (level > 0) {
+      code = pyramidCode(layer, level, ix, iy);
+    } else {
+      const uint c00 = sampleCode(tile, ix, iy), c10 = sampleCode(tile, ix + 1, iy);
+      const uint c01 = sampleCode(tile, ix, iy + 1), c11 = sampleCode(tile, ix + 1, iy + 1);
+      code = c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode
+                 ? gEmptyCode
+                 : min(min(c00, c10), min(c01, c11));
+    }
+    bool skip = code >= gEmptyCode;
+    if (!skip) {
+      const int xa = ix * size, xb = min((ix + 1) * size, gTexels - 1);
+      const int ya = iy * size, yb = min((iy + 1) * size, gTexels - 1);
+      precise float longest = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        const vec3 q = facePoint(face, vec2(float((k & 1) != 0 ? xb : xa), float((k & 2) != 0 ? yb : ya)) / scale);
+        const vec3 e = q - (perspective ? gPoint : axialFoot(q));
+        precise float squared = e.x * e.x + e.y * e.y + e.z * e.z;
+        longest = max(longest, sqrt(squared));
+      }
+      precise float depthIn = clamp(1.0 - (r0 + r1 * t), 0.0, 1.0), depthOut = clamp(1.0 - (r0 + r1 * tExit), 0.0, 1.0);
+      precise float deepest = max(depthIn, depthOut) * longest, nearest = float(code) * gDistanceScale;
+      skip = deepest < nearest;
+    }
+    if (skip) {
+      const bool tellsSide = !(gOpenSurface && code >= gEmptyCode), crossed = tellsSide && gWalkKnown && gWalkPositive;
+      gWalkPositive = false;
+      gWalkKnown = tellsSide;
+      if (crossed) return centralHitAt(t, steps);
+      t = tExit;
+      x = acrossU ? xBoundary : ratioAt(u, t) * scale;
+      y = acrossV ? yBoundary : ratioAt(v, t) * scale;
+      level = min(level + 1, top);
+      continue;
+    }
+    if (level > 0) {
+      --level;
+      continue;
+    }
+    float tPrev = t;
+    FacePoint fp;
+    for (int k = 1; k <= CR_CENTRAL_TEXEL_SAMPLES; ++k) {
+      precise float ts = t + (tExit - t) * float(k) / float(CR_CENTRAL_TEXEL_SAMPLES);
+      const float f = field(localPoint(ts), fp);
+      ++steps;
+      if (gOpenSurface && abs(f) >= CR_EMPTY_FIELD) {
+        gWalkKnown = false;
+      } else {
+        if (gWalkKnown && (f > 0.0) != gWalkPositive) return refineCrossing(tPrev, ts, gWalkPositive, steps);
+        gWalkPositive = f > 0.0;
+        gWalkKnown = true;
+      }
+      tPrev = ts;
+    }
+    t = tExit;
+    x = acrossU ? xBoundary : ratioAt(u, t) * scale;
+    y = acrossV ? yBoundary : ratioAt(v, t) * scale;
+    level = min(level + 1, top);
+  }
+  return noHit();
+}
+
+Hit centralSkipSearch(float t0, float t1, float fStart) {
+  const bool perspective = CR_PERSPECTIVE && (!CR_AXIAL || gProjection == CR_PROJ_PERSPECTIVE);
+  gCentralCentre = gPoint;
+  gCentralAxis = perspective ? -1 : gFaceOrAxis;
+  gCentralW0 = gLocalOrigin - gCentralCentre;
+  gCentralW1 = gLocalDirection;
+  if (!perspective) {
+    gCentralW0 = withAxis(gCentralW0, gCentralAxis, 0.0);
+    gCentralW1 = withAxis(gCentralW1, gCentralAxis, 0.0);
+  }
+  gWalkPositive = fStart > 0.0;
+  gWalkKnown = !(gOpenSurface && abs(fStart) >= CR_EMPTY_FIELD);
+  uint steps = 1u;
+  float t = t0;
+  int face = exitFaceAt(t), previous = -1;
+  while (face >= 0 && t < t1) {
+    int next;
+    const float tEnd = faceChange(face, t, t1, next);
+    const Hit hit = centralSkipFace(face, previous, t, tEnd, steps);
+    if (hit.cell >= 0) return hit;
+    t = tEnd;
+    previous = face;
+    face = next;
+  }
+  return missAfter(steps);
+}
+
 Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
-  if (CR_SKIP && (gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && P.flags.y != 0 &&
+  if (CR_SKIP && (gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && (P.flags.y & 1) != 0 &&
       gPyramidOffset >= 0)
     return skipSearch(t0, t1);
+  // Not in interior cells (see ReliefTracer::searchInside).
+  if (CR_SKIP_CENTRAL && (gProjection == CR_PROJ_PERSPECTIVE || gProjection == CR_PROJ_AXIAL) && !gInterior &&
+      (P.flags.y & 2) != 0 && gPyramidOffset >= 0)
+    return centralSkipSearch(t0, t1, fStart);
   return linearBinarySearch(t0, t1, fStart, fpStart, fEnd);
 }
 

@@ -20,7 +20,10 @@
 ///   cells, whose distance is linear along the ray, the ray walks a min pyramid of the layer
 ///   (empty_space.h) and skips every node it provably cannot hit; in each texel cell it still has
 ///   to cross, it meets the bilinear surface exactly (a quadratic in the ray parameter). This is
-///   conservative: it can find more hits than the sampled search, never fewer.
+///   conservative: it can find more hits than the sampled search, never fewer. Perspective and
+///   axial cells (TraceOptions::skipCentralCells) walk the same pyramid face by face, with a
+///   bound that holds along the central projection (centralSkipSearch), and sample the texel
+///   cells they cannot skip.
 ///
 /// Cell boundaries: a surface lying in the face shared by two grey cells, or thinner than a
 /// sample where it pokes into a cell, may show no sign change inside either cell. The tracer
@@ -277,6 +280,11 @@ class ReliefTracer {
                                       std::is_same_v<P, projection::PlanarProjection<T>>;
     if constexpr (kSingleDirection) {
       if (mOptions.skipEmptySpace) return skipSearch(codes, proj, r, index, ray, frame, t0, t1);
+    } else {
+      // Interior cells read an empty line on the centre's side, not the face's: a node that
+      // mixes empty and filled texel cells tells no side there, so they keep the sampled search.
+      if (mOptions.skipEmptySpace && mOptions.skipCentralCells && r.configuration != 0)
+        return centralSkipSearch(codes, proj, r, index, ray, frame, t0, t1, fStart);
     }
     return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd);
   }
@@ -310,27 +318,53 @@ class ReliefTracer {
       const T t = t0 + (t1 - t0) * T(i) / T(linear);
       const T f = field(codes, proj, r, local(t), fp);
       ++steps;
-      if ((fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f)))) {
-        T lo = tPrev, hi = t, fLo = fPrev;
-        for (int k = 0; k < mOptions.binarySteps; ++k) {
-          const T mid = T(0.5) * (lo + hi);
-          const T fm = field(codes, proj, r, local(mid), fp);
-          ++steps;
-          if ((fm > 0) == (fLo > 0)) {
-            lo = mid;
-            fLo = fm;
-          } else {
-            hi = mid;
-          }
-        }
-        field(codes, proj, r, local(hi), fp);
-        return makeHit(index, ray, hi, fp, steps);
-      }
+      if ((fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f))))
+        return refineCrossing(codes, proj, r, index, ray, frame, tPrev, t, fPrev > 0, steps);
       fPrev = f;
       tPrev = t;
     }
     fEnd = fPrev;
     return missAfter(steps);
+  }
+
+  /// The binary search between a sample on one side of the surface (lo, where the field's sign
+  /// is `positiveLo`) and one on the other (hi): the hit at the last bracket's far end.
+  template <class Codes, class P>
+  Hit refineCrossing(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
+                     const Ray<T>& ray, const CellFrame& frame, T lo, T hi, bool positiveLo,
+                     std::uint32_t steps) const {
+    auto local = [&](T t) { return frame.origin + t * frame.direction; };
+    projection::FacePoint<T> fp;
+    for (int k = 0; k < mOptions.binarySteps; ++k) {
+      const T mid = T(0.5) * (lo + hi);
+      const T fm = field(codes, proj, r, local(mid), fp);
+      ++steps;
+      if ((fm > 0) == positiveLo) lo = mid;
+      else hi = mid;
+    }
+    field(codes, proj, r, local(hi), fp);
+    return makeHit(index, ray, hi, fp, steps);
+  }
+
+  /// The least distance code under a pyramid node; level 0 (a texel cell, not stored) from its
+  /// four samples, empty when any of them is (as the tracer reads it).
+  template <class Codes>
+  std::uint32_t nodeCode(const Codes& codes, int layer, int level, int ix, int iy) const {
+    if (level > 0) return mPyramid.code(layer, level, ix, iy);
+    const std::uint32_t c[4] = {codes(layer, ix, iy), codes(layer, ix + 1, iy), codes(layer, ix, iy + 1),
+                                codes(layer, ix + 1, iy + 1)};
+    const relief::DistanceCodec& codec = mModel.distanceCodec;
+    return codec.isEmpty(c[0]) || codec.isEmpty(c[1]) || codec.isEmpty(c[2]) || codec.isEmpty(c[3])
+               ? codec.emptyCode()
+               : std::min({c[0], c[1], c[2], c[3]});
+  }
+
+  /// A nudge of a few ulps of a coordinate in the direction it moves: a node boundary the walk
+  /// stands on goes to the node ahead (a fixed nudge vanishes in float away from zero).
+  static T nudge(T v, T dv) {
+    return dv == 0 ? T(0)
+                   : std::copysign(T(constants::kNudgeUlps) * std::numeric_limits<T>::epsilon() *
+                                       std::max(T(1), std::abs(v)), dv);
   }
 
   /// Parallel and planar cells: walk the layer's min pyramid, meet the bilinear surface exactly
@@ -405,12 +439,6 @@ class ReliefTracer {
       const int size = 1 << level, nodes = mPyramid.size(level);
       // The node the ray is in, nudged along the ray so boundaries go to the node ahead.
       const T x = x0 + s * dx, y = y0 + s * dy;
-      // A few ulps of the coordinate: a fixed nudge vanishes in float away from zero.
-      auto nudge = [](T v, T dv) {
-        return dv == 0 ? T(0)
-                       : std::copysign(T(constants::kNudgeUlps) * std::numeric_limits<T>::epsilon() *
-                                           std::max(T(1), std::abs(v)), dv);
-      };
       const int ix = std::clamp(int(std::floor((x + nudge(x, dx)) / T(size))), 0, nodes - 1);
       const int iy = std::clamp(int(std::floor((y + nudge(y, dy)) / T(size))), 0, nodes - 1);
       // An axis along which the ray is already past the layer's edge and moving away never
@@ -422,17 +450,7 @@ class ReliefTracer {
       if (dy != 0 && !(dy > 0 ? y >= edge : y <= 0))
         sExit = std::min(sExit, (T(dy > 0 ? (iy + 1) * size : iy * size) - y0) / dy);
       sExit = std::max(sExit, s + kProgress);
-      std::uint32_t code = 0;
-      if (level > 0) {
-        code = mPyramid.code(layer, level, ix, iy);
-      } else {
-        const std::uint32_t c[4] = {codes(layer, ix, iy), codes(layer, ix + 1, iy),
-                                    codes(layer, ix, iy + 1), codes(layer, ix + 1, iy + 1)};
-        const relief::DistanceCodec& codec = mModel.distanceCodec;
-        code = codec.isEmpty(c[0]) || codec.isEmpty(c[1]) || codec.isEmpty(c[2]) || codec.isEmpty(c[3])
-                   ? codec.emptyCode()
-                   : std::min({c[0], c[1], c[2], c[3]});
-      }
+      const std::uint32_t code = nodeCode(codes, layer, level, ix, iy);
       const T deepest = std::max(depthAt(s), depthAt(std::min(sExit, T(1))));
       if (mPyramid.isEmptyCode(code) || deepest < T(code) * mDistanceScale) {
         // No surface under the node, or all of it beyond the ray here: outside, unless the node
@@ -475,6 +493,246 @@ class ReliefTracer {
       level = std::min(level + 1, top);
     }
     return missAfter(steps);
+  }
+
+  /// A ratio of linear functions of the ray parameter, (n0 + n1 t) / (d0 + d1 t): a face
+  /// coordinate of a central projection along a ray. Monotone wherever the denominator keeps
+  /// its sign, as it does within one face's stretch of the ray.
+  struct LinearRatio {
+    T n0 = 0, n1 = 0, d0 = 1, d1 = 0;
+    T at(T t) const { return (n0 + n1 * t) / (d0 + d1 * t); }
+    /// Where at() takes `value`.
+    T solve(T value) const { return (value * d0 - n0) / (n1 - value * d1); }
+    /// The sign of its derivative.
+    T direction() const { return n1 * d0 - n0 * d1; }
+  };
+
+  /// A central projection (perspective, or axial: the centre is the foot on the axis) along a
+  /// ray in cell units. With w(t) = p(t) - centre, linear in t, the point lies at the fraction
+  /// r_F(t) = w_a(t) / (plane_F - centre_a) of the line from the centre to its point on face F
+  /// (axis a), so the line leaves through the face of largest r_F; r_F, and with it the
+  /// point's depth fraction 1 - r_F, is linear in t, and each face coordinate is a LinearRatio.
+  struct CentralRay {
+    Vec3<T> origin{0}, direction{0};  ///< the ray
+    Vec3<T> centre{0};                ///< axial: a point of the axis
+    Vec3<T> w0{0}, w1{0};             ///< w(t) = w0 + t w1
+    int axis = -1;                    ///< axial: the axis, whose faces are never reached; else -1
+
+    T reach(int face) const { return (cells::faceSign(face) > 0 ? T(1) : T(0)) - centre[cells::faceAxis(face)]; }
+    /// A line from the centre can leave through the face (the centre does not lie in its plane).
+    bool reachable(int face) const { return cells::faceAxis(face) != axis && reach(face) != T(0); }
+    T ratio0(int face) const { return w0[cells::faceAxis(face)] / reach(face); }
+    T ratio1(int face) const { return w1[cells::faceAxis(face)] / reach(face); }
+    LinearRatio coordinate(int face, int along) const {
+      if (along == axis) return {origin[along], direction[along], T(1), T(0)};
+      const int a = cells::faceAxis(face);
+      const T k = reach(face);
+      return {centre[along] * w0[a] + k * w0[along], centre[along] * w1[a] + k * w1[along], w0[a], w1[a]};
+    }
+  };
+
+  template <class P>
+  static CentralRay centralRay(const P& proj, const CellFrame& frame) {
+    CentralRay c;
+    c.origin = frame.origin;
+    c.direction = frame.direction;
+    if constexpr (std::is_same_v<P, projection::AxialProjection<T>>) {
+      c.centre = proj.point;
+      c.axis = proj.axis;
+    } else {
+      c.centre = proj.centre;
+    }
+    c.w0 = frame.origin - c.centre;
+    c.w1 = frame.direction;
+    if (c.axis >= 0) c.w0[c.axis] = c.w1[c.axis] = T(0);
+    return c;
+  }
+
+  /// The face the point at t projects onto: the largest r_F, a tie to the one growing faster.
+  static int exitFaceAt(const CentralRay& c, T t) {
+    int best = -1;
+    T bestRatio = -std::numeric_limits<T>::infinity(), bestSlope = bestRatio;
+    for (int f = 0; f < cells::kFaceCount; ++f) {
+      if (!c.reachable(f)) continue;
+      const T ratio = c.ratio0(f) + t * c.ratio1(f), slope = c.ratio1(f);
+      if (ratio > bestRatio || (ratio == bestRatio && slope > bestSlope)) best = f, bestRatio = ratio, bestSlope = slope;
+    }
+    return best;
+  }
+
+  /// Where the ray's points stop projecting onto `face` after t (before tEnd), and onto which
+  /// face they go then (-1: none before tEnd). r_F is linear, so each face has one stretch.
+  static std::pair<T, int> faceChange(const CentralRay& c, int face, T t, T tEnd) {
+    T when = tEnd;
+    int next = -1;
+    for (int g = 0; g < cells::kFaceCount; ++g) {
+      if (g == face || !c.reachable(g)) continue;
+      const T gap0 = c.ratio0(g) - c.ratio0(face), gap1 = c.ratio1(g) - c.ratio1(face);
+      if (!(gap1 > 0)) continue;  // never overtakes as t grows
+      const T at = -gap0 / gap1;
+      if (at > t && at < when) when = at, next = g;
+    }
+    return {when, next};
+  }
+
+  /// The side of the surface a central skip walk is on: the field's sign, and whether it is
+  /// known (a cell with a hole's rim reads no side from an empty line).
+  struct WalkSide {
+    bool positive = false;
+    bool known = true;
+  };
+
+  /// Perspective and axial cells (not interior ones): the ray is split where its points change
+  /// face, and on each face it walks the layer's min pyramid as in skipSearchFace. A node is
+  /// skipped when no line through it can hold the surface on the ray: the ray's deepest point
+  /// there (depth fraction, linear in t) times the longest line of the node (at a corner: the
+  /// distance from the centre is convex on the face) stays below the node's least distance.
+  /// The texel cells it cannot skip are sampled (kCentralTexelSamples each) and a crossing is
+  /// refined by the binary search, as in the linear search.
+  template <class Codes, class P>
+  Hit centralSkipSearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
+                        const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart) const {
+    const CentralRay central = centralRay(proj, frame);
+    WalkSide side{fStart > 0, !(r.openSurface() && isEmptyField(fStart))};
+    std::uint32_t steps = 1;  // the field at t0
+    T t = t0;
+    int face = exitFaceAt(central, t), previous = -1;
+    while (face >= 0 && t < t1) {
+      const auto [tEnd, next] = faceChange(central, face, t, t1);
+      const Hit hit =
+          centralSkipFace(codes, proj, r, index, ray, frame, central, face, previous, t, tEnd, side, steps);
+      if (hit.valid()) return hit;
+      t = tEnd;
+      previous = face;
+      face = next;
+    }
+    return missAfter(steps);
+  }
+
+  template <class Codes, class P>
+  Hit centralSkipFace(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
+                      const Ray<T>& ray, const CellFrame& frame, const CentralRay& central, int face,
+                      int previous, T ta, T tb, WalkSide& side, std::uint32_t& steps) const {
+    auto local = [&](T t) { return frame.origin + t * frame.direction; };
+    auto hitAt = [&](T t) {
+      projection::FacePoint<T> fp;
+      field(codes, proj, r, local(t), fp);
+      return makeHit(index, ray, t, fp, steps);
+    };
+    const bool open = r.openSurface();
+    // A stretch the walk proves to be on one side: entering it from the other is a crossing
+    // at its start. An empty node in a cell with a hole's rim tells no side.
+    auto enter = [&](bool positive, bool tellsSide, T t) {
+      const bool crossed = tellsSide && side.known && side.positive != positive;
+      side = {positive, tellsSide};
+      return crossed ? hitAt(t) : Hit{};
+    };
+    const int layer = r.layerOf(face);
+    if (layer < 0 || !(tb > ta)) {
+      ++steps;
+      return layer < 0 ? enter(false, !open, ta) : Hit{};  // no map: every line here is empty
+    }
+    const T scale = T(mModel.texels - 1);
+    const LinearRatio u = central.coordinate(face, projection::faceUAxis(face));
+    const LinearRatio v = central.coordinate(face, projection::faceVAxis(face));
+    const T du = u.direction(), dv = v.direction();
+    const T r0 = central.ratio0(face), r1 = central.ratio1(face);
+    auto depthAt = [&](T t) { return glm::clamp(T(1) - (r0 + r1 * t), T(0), T(1)); };
+    auto lineLength = [&](int x, int y) {
+      const Vec3<T> q = projection::facePoint<T>(face, Vec2<T>(T(x), T(y)) / scale);
+      return glm::length(q - proj.lineEnd(face, q));
+    };
+    // The floor on each advance: a fraction of the stretch, and never below a few ulps of t.
+    auto advance = [&](T from) {
+      return from + std::max(T(constants::kSkipProgress) * (tb - ta),
+                             T(constants::kNudgeUlps) * std::numeric_limits<T>::epsilon() * std::max(T(1), std::abs(from)));
+    };
+    const int top = mPyramid.levels() - 1;
+    int level = top;
+    // The position in texel units. Where the walk crossed a node boundary it is that boundary,
+    // exactly: recomputed from the rounded t it can land a few ulps short, a rounding that
+    // differs between the CPU and a GPU (there the next node would depend on the driver).
+    T t = ta, x = u.at(t) * scale, y = v.at(t) * scale;
+    // Coming from the previous face, the walk enters on the edge the two faces share: there the
+    // coordinate along the previous face's axis is that face's plane, exactly.
+    if (previous >= 0) {
+      const T plane = cells::faceSign(previous) > 0 ? scale : T(0);
+      if (cells::faceAxis(previous) == projection::faceUAxis(face)) x = plane;
+      if (cells::faceAxis(previous) == projection::faceVAxis(face)) y = plane;
+    }
+    T xBoundary = 0, yBoundary = 0;
+    auto moveTo = [&](T next, bool acrossU, bool acrossV) {
+      t = next;
+      x = acrossU ? xBoundary : u.at(t) * scale;
+      y = acrossV ? yBoundary : v.at(t) * scale;
+    };
+    while (t < tb) {
+      ++steps;
+      const int size = 1 << level, nodes = mPyramid.size(level);
+      if (!std::isfinite(x) || !std::isfinite(y)) {  // at the centre itself (0 / 0): step past it
+        moveTo(std::min(tb, advance(t)), false, false);
+        continue;
+      }
+      const int ix = std::clamp(int(std::floor((x + nudge(x, du)) / T(size))), 0, nodes - 1);
+      const int iy = std::clamp(int(std::floor((y + nudge(y, dv)) / T(size))), 0, nodes - 1);
+      // An axis along which the ray is past the layer's edge and moving away never exits. The
+      // ratio takes the boundary's value once more on its other branch (past its pole), where
+      // the denominator has the other sign: that one is no exit.
+      const T edge = T(mPyramid.size(0));
+      T tExit = tb;
+      bool acrossU = false, acrossV = false;
+      auto exitAt = [&](const LinearRatio& c, T boundary, bool& across) {
+        const T at = c.solve(boundary / scale);
+        if ((c.d0 + c.d1 * at > 0) != (c.d0 + c.d1 * t > 0) || at > tExit) return;
+        if (at < tExit) acrossU = acrossV = false;
+        tExit = at;
+        across = true;
+      };
+      xBoundary = T(du > 0 ? (ix + 1) * size : ix * size);
+      yBoundary = T(dv > 0 ? (iy + 1) * size : iy * size);
+      if (du != 0 && !(du > 0 ? x >= edge : x <= 0)) exitAt(u, xBoundary, acrossU);
+      if (dv != 0 && !(dv > 0 ? y >= edge : y <= 0)) exitAt(v, yBoundary, acrossV);
+      if (const T least = advance(t); !(tExit >= least)) tExit = least, acrossU = acrossV = false;
+      if (tExit >= tb) tExit = tb, acrossU = acrossV = false;
+      const std::uint32_t code = nodeCode(codes, layer, level, ix, iy);
+      bool skip = mPyramid.isEmptyCode(code);
+      if (!skip) {
+        const int xa = ix * size, xb = std::min((ix + 1) * size, mModel.texels - 1);
+        const int ya = iy * size, yb = std::min((iy + 1) * size, mModel.texels - 1);
+        const T longest = std::max({lineLength(xa, ya), lineLength(xb, ya), lineLength(xa, yb), lineLength(xb, yb)});
+        skip = std::max(depthAt(t), depthAt(tExit)) * longest < T(code) * mDistanceScale;
+      }
+      if (skip) {
+        // No surface under the node, or all of it beyond the ray here: outside (f < 0).
+        if (const Hit hit = enter(false, !(open && mPyramid.isEmptyCode(code)), t); hit.valid()) return hit;
+        moveTo(tExit, acrossU, acrossV);
+        level = std::min(level + 1, top);
+        continue;
+      }
+      if (level > 0) {
+        --level;
+        continue;
+      }
+      // A texel cell the bound cannot skip: sample it.
+      T tPrev = t;
+      projection::FacePoint<T> fp;
+      for (int k = 1; k <= constants::kCentralTexelSamples; ++k) {
+        const T ts = t + (tExit - t) * T(k) / T(constants::kCentralTexelSamples);
+        const T f = field(codes, proj, r, local(ts), fp);
+        ++steps;
+        if (open && isEmptyField(f)) {
+          side.known = false;
+        } else {
+          if (side.known && (f > 0) != side.positive)
+            return refineCrossing(codes, proj, r, index, ray, frame, tPrev, ts, side.positive, steps);
+          side = {f > 0, true};
+        }
+        tPrev = ts;
+      }
+      moveTo(tExit, acrossU, acrossV);
+      level = std::min(level + 1, top);
+    }
+    return Hit{};
   }
 
   /// The smallest root of a s^2 + b s + c in [lo, hi] where the sign changes or touches zero.

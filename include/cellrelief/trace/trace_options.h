@@ -18,6 +18,9 @@ struct TraceOptions {
   float stepsPerTexel = 1.5f;  ///< linear samples per texel the ray's projection crosses
   int binarySteps = 8;      ///< refinement after the linear search (1 / 256 of a linear step)
   bool skipEmptySpace = true;  ///< min-pyramid skipping and exact texel tests in parallel/planar cells
+  /// The same pyramid in perspective and axial cells (with skipEmptySpace; not in interior cells):
+  /// nodes the ray provably stays in front of are skipped, the rest sampled per texel.
+  bool skipCentralCells = true;
   bool operator==(const TraceOptions&) const = default;
 };
 
@@ -56,6 +59,8 @@ inline constexpr int kFootprintProbes = 3;
 inline constexpr float kSkipProgress = 1e-6f;
 /// The skip walk's nudge across node boundaries, in ulps of the coordinate.
 inline constexpr float kNudgeUlps = 4.0f;
+/// Field samples per texel cell that the skip walk of a central cell cannot skip.
+inline constexpr int kCentralTexelSamples = 2;
 /// Bisection steps when rounding defeats the closed-form root of the texel quadratic.
 inline constexpr int kRootBisections = 40;
 /// A quadratic coefficient below this fraction of the others' magnitude is treated as zero.

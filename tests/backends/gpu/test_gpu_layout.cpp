@@ -140,7 +140,7 @@ TEST(ShaderPreamble, TheConstantsComeFromTheCppValues) {
 TEST(ShaderPreamble, AVariantHoldsOnlyWhatTheSceneUses) {
   SceneFeatures perspectiveOnly;
   perspectiveOnly.perspective = true;
-  const ShaderVariant v = ShaderVariant::specialized(perspectiveOnly, true, true, false, render::kColor);
+  const ShaderVariant v = ShaderVariant::specialized(perspectiveOnly, {}, true, false, render::kColor);
   const std::string constants = variantConstants(v);
   EXPECT_NE(constants.find("const bool CR_PERSPECTIVE = true;"), std::string::npos) << constants;
   EXPECT_NE(constants.find("const bool CR_SHADOWS = true;"), std::string::npos);

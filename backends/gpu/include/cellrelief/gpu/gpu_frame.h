@@ -51,7 +51,7 @@ class TraversalControls {
  protected:
   ShaderVariant variantOf(const SceneFeatures& features, const render::RenderOptions& options) const {
     ShaderVariant v = mGeneral ? ShaderVariant::general()
-                               : ShaderVariant::specialized(features, options.trace.skipEmptySpace, options.shadows,
+                               : ShaderVariant::specialized(features, options.trace, options.shadows,
                                                             options.reflectionBounces > 0, options.channels);
     if (mGeneral) v.channels = render::kAllChannels;
     v.gather = mGather;
@@ -155,7 +155,8 @@ inline FrameParams frameParams(const render::Scene& scene, const render::Camera&
   p.tuning[0] = o.trace.stepsPerTexel;
   p.tuning[1] = o.reflectivity;
   p.flags[0] = o.shadows ? 1 : 0;
-  p.flags[1] = o.trace.skipEmptySpace ? 1 : 0;
+  // Bit 0: skipping in parallel and planar cells; bit 1: in central ones too.
+  p.flags[1] = (o.trace.skipEmptySpace ? 1 : 0) | (o.trace.skipEmptySpace && o.trace.skipCentralCells ? 2 : 0);
   p.flags[2] = int(layout.color);
   p.flags[3] = int(layout.depth);
   p.offsets[0] = int(layout.normal);

@@ -18,7 +18,7 @@
 ///   pays one or two probes per white or black cell, as the CPU pays an OpenVDB accessor lookup.
 /// - The cell table is the model's CellRecord array as is (24-byte std430 structs).
 /// - The min pyramid of the empty-space skip (trace/empty_space.h), levels 1 and up, as 16-bit
-///   codes, only when skipping is on and the model has parallel or planar cells.
+///   codes, only when skipping is on and the model has cells other than interior ones.
 /// Everything is counted in bytes(): what sceneBytes() reports.
 #pragma once
 
@@ -98,7 +98,7 @@ static_assert(sizeof(ModelInfo) % 16 == 0);
 struct SceneFeatures {
   bool parallel = false, planar = false, perspective = false, axial = false;
   bool octahedralNormals = false, rgbaNormals = false, colors = false;
-  bool pyramid = false;  ///< a pyramid is uploaded (skipping on, parallel or planar cells present)
+  bool pyramid = false;  ///< a pyramid is uploaded (skipping on, cells other than interior ones present)
 };
 
 /// A 2D array texture's texels, tightly packed [layer][row][column][channel].
@@ -260,11 +260,9 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     out.features.octahedralNormals |= m.normalFormat == relief::NormalFormat::Octahedral16;
     out.features.rgbaNormals |= m.normalFormat == relief::NormalFormat::Rgba8;
     out.features.colors |= m.colorFormat == relief::ColorFormat::Rgba8;
-    const bool singleDirection = std::any_of(m.cells.begin(), m.cells.end(), [](const auto& r) {
-      const auto type = projection::ProjectionType(r.projectionType);
-      return type == projection::ProjectionType::Parallel || type == projection::ProjectionType::Planar;
-    });
-    if (withPyramid && singleDirection && m.layerCount() > 0) {
+    // Every cell but the interior ones can skip (ReliefTracer::searchInside).
+    const bool skippable = std::any_of(m.cells.begin(), m.cells.end(), [](const auto& r) { return r.configuration != 0; });
+    if (withPyramid && skippable && m.layerCount() > 0) {
       const trace::EmptySpacePyramid pyramid(m);
       if (pyramid.levels() > kMaxPyramidLevels)
         throw Error(ErrorKind::ResourceLimit, detail::modelLabel(i, m) + ": T = " +
