@@ -825,14 +825,15 @@ Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps
     if (!skip) {
       const int xa = ix * size, xb = min((ix + 1) * size, gTexels - 1);
       const int ya = iy * size, yb = min((iy + 1) * size, gTexels - 1);
-      precise float longest = 0.0;
+      precise float longestSquared = 0.0;  // one square root per node (see the C++)
       for (int k = 0; k < 4; ++k) {
         const vec3 q = facePoint(face, vec2(float((k & 1) != 0 ? xb : xa), float((k & 2) != 0 ? yb : ya)) / scale);
         const vec3 e = q - (perspective ? gPoint : axialFoot(q));
         precise float squared = e.x * e.x + e.y * e.y + e.z * e.z;
-        longest = max(longest, sqrt(squared));
+        longestSquared = max(longestSquared, squared);
       }
       precise float depthIn = clamp(1.0 - (r0 + r1 * t), 0.0, 1.0), depthOut = clamp(1.0 - (r0 + r1 * tExit), 0.0, 1.0);
+      precise float longest = sqrt(longestSquared);
       precise float deepest = max(depthIn, depthOut) * longest, nearest = float(code) * gDistanceScale;
       skip = deepest < nearest;
     }

@@ -638,9 +638,12 @@ class ReliefTracer {
     const T du = u.direction(), dv = v.direction();
     const T r0 = central.ratio0(face), r1 = central.ratio1(face);
     auto depthAt = [&](T t) { return glm::clamp(T(1) - (r0 + r1 * t), T(0), T(1)); };
-    auto lineLength = [&](int x, int y) {
+    // Squared: the longest of a node's four lines takes one square root, not four (the root
+    // is monotonic and correctly rounded, so the result is the same).
+    auto squaredLineLength = [&](int x, int y) {
       const Vec3<T> q = projection::facePoint<T>(face, Vec2<T>(T(x), T(y)) / scale);
-      return glm::length(q - proj.lineEnd(face, q));
+      const Vec3<T> e = q - proj.lineEnd(face, q);
+      return e.x * e.x + e.y * e.y + e.z * e.z;
     };
     // The floor on each advance: a fraction of the stretch, and never below a few ulps of t.
     auto advance = [&](T from) {
@@ -699,7 +702,8 @@ class ReliefTracer {
       if (!skip) {
         const int xa = ix * size, xb = std::min((ix + 1) * size, mModel.texels - 1);
         const int ya = iy * size, yb = std::min((iy + 1) * size, mModel.texels - 1);
-        const T longest = std::max({lineLength(xa, ya), lineLength(xb, ya), lineLength(xa, yb), lineLength(xb, yb)});
+        const T longest = std::sqrt(std::max({squaredLineLength(xa, ya), squaredLineLength(xb, ya),
+                                              squaredLineLength(xa, yb), squaredLineLength(xb, yb)}));
         skip = std::max(depthAt(t), depthAt(tExit)) * longest < T(code) * mDistanceScale;
       }
       if (skip) {
