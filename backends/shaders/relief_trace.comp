@@ -734,16 +734,22 @@ Hit centralHitAt(float t, uint steps) {
   return makeHit(t, fp, steps);
 }
 
-// ReliefTracer::centralSkipFace; `enter` there is the block repeated at its two uses here.
+// ReliefTracer::centralSkipFace's `enter`: the walk proves a stretch outside; whether entering
+// it is a crossing (from a known inside), and the side it leaves.
+bool enterOutside(bool tellsSide) {
+  const bool crossed = tellsSide && gWalkKnown && gWalkPositive;
+  gWalkPositive = false;
+  gWalkKnown = tellsSide;
+  return crossed;
+}
+
+// ReliefTracer::centralSkipFace
 Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps) {
   const int layer = layerOf(face);
   if (layer < 0 || !(tb > ta)) {
     ++steps;
     if (layer >= 0) return noHit();
-    const bool tellsSide = !gOpenSurface, crossed = tellsSide && gWalkKnown && gWalkPositive;
-    gWalkPositive = false;
-    gWalkKnown = tellsSide;
-    return crossed ? centralHitAt(ta, steps) : noHit();
+    return enterOutside(!gOpenSurface) ? centralHitAt(ta, steps) : noHit();
   }
   const float scale = float(gTexels - 1);
   const vec4 u = centralCoordinate(face, nextAxis(faceAxis(face)));
@@ -838,10 +844,7 @@ Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps
       skip = deepest < nearest;
     }
     if (skip) {
-      const bool tellsSide = !(gOpenSurface && code >= gEmptyCode), crossed = tellsSide && gWalkKnown && gWalkPositive;
-      gWalkPositive = false;
-      gWalkKnown = tellsSide;
-      if (crossed) return centralHitAt(t, steps);
+      if (enterOutside(!(gOpenSurface && code >= gEmptyCode))) return centralHitAt(t, steps);
       t = tExit;
       x = acrossU ? xBoundary : ratioAt(u, t) * scale;
       y = acrossV ? yBoundary : ratioAt(v, t) * scale;

@@ -651,6 +651,7 @@ class ReliefTracer {
                              T(constants::kNudgeUlps) * std::numeric_limits<T>::epsilon() * std::max(T(1), std::abs(from)));
     };
     const int top = mPyramid.levels() - 1;
+    const T edge = T(mPyramid.size(0));
     int level = top;
     // The position in texel units. Where the walk crossed a node boundary it is that boundary,
     // exactly: recomputed from the rounded t it can land a few ulps short, a rounding that
@@ -681,7 +682,6 @@ class ReliefTracer {
       // An axis along which the ray is past the layer's edge and moving away never exits. The
       // ratio takes the boundary's value once more on its other branch (past its pole), where
       // the denominator has the other sign: that one is no exit.
-      const T edge = T(mPyramid.size(0));
       T tExit = tb;
       bool acrossU = false, acrossV = false;
       auto exitAt = [&](const LinearRatio& c, T boundary, bool& across) {
