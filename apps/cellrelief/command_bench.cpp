@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file command_bench.cpp
 /// `cellrelief bench <name> [options]`: runs the benchmark program bench_<name> that sits beside
-/// this executable (bench_cells, bench_relief, bench_trace, bench_backends), passing the options through. The
-/// benchmarks are separate programs because they link the peers they compare against (Embree,
-/// OpenVDB's level-set tools), which the command line itself does not need.
+/// this executable (bench_cells, bench_relief, bench_trace, bench_silhouettes, bench_backends), passing
+/// the options through. The benchmarks are separate programs because they link the peers they
+/// compare against (Embree, OpenVDB's level-set tools), which the command line itself does not need.
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -30,7 +30,7 @@ int runBench(const BenchCli& o) {
   const std::filesystem::path program = self.parent_path() / ("bench_" + o.name);
   if (!std::filesystem::exists(program))
     throw Error(ErrorKind::FileNotFound, program,
-                "no such benchmark (built: bench_cells, bench_relief, and bench_trace and bench_backends with Embree)");
+                "no such benchmark (built: bench_cells, bench_relief, and bench_trace, bench_silhouettes and bench_backends with Embree)");
   std::vector<std::string> words = {program.string()};
   words.insert(words.end(), o.args.begin(), o.args.end());
   std::vector<char*> argv;
@@ -43,9 +43,9 @@ int runBench(const BenchCli& o) {
 }  // namespace
 
 Command addBenchCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("bench", "Run a benchmark: cells, relief, trace or backends (options pass through)");
+  auto* cmd = app.add_subcommand("bench", "Run a benchmark: cells, relief, trace, silhouettes or backends (options pass through)");
   auto o = std::make_shared<BenchCli>();
-  cmd->add_option("name", o->name, "cells, relief or trace")->required();
+  cmd->add_option("name", o->name, "cells, relief, trace, silhouettes or backends")->required();
   // Everything after the name goes to the benchmark as it is.
   cmd->prefix_command();
   return {cmd, [o, cmd]() {

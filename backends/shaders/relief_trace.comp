@@ -320,8 +320,20 @@ uint sampleCode(ivec3 tile, int a, int b) {
   return texelFetch(distanceAtlas, ivec3(tile.x + a, tile.y + b, tile.z), 0).r;
 }
 
-// ReliefTracer::stored: bilinear in the codes, false when a corner is empty.
-bool stored(int layer, vec2 uv, out float value) {
+// ReliefTracer::mixedTexel: in an interior cell, an empty sample of a texel with filled ones reads
+// as the negated mean of those (the surface crossed the face before its line).
+void mixedTexel(inout float c00, inout float c10, inout float c01, inout float c11, float empty, int emptyCount) {
+  const float mirrored = -((c00 < empty ? c00 : 0.0) + (c10 < empty ? c10 : 0.0) + (c01 < empty ? c01 : 0.0) +
+                           (c11 < empty ? c11 : 0.0)) / float(4 - emptyCount);
+  c00 = c00 < empty ? c00 : mirrored;
+  c10 = c10 < empty ? c10 : mirrored;
+  c01 = c01 < empty ? c01 : mirrored;
+  c11 = c11 < empty ? c11 : mirrored;
+}
+
+// ReliefTracer::stored: bilinear in the codes, false when a corner is empty (in an interior cell,
+// when all four are: mixedTexel reads the others).
+bool stored(int layer, vec2 uv, bool emptyLinesCrossed, out float value) {
   const float scale = float(gTexels - 1);
   const float x = (uv.x > 0.0 ? min(uv.x, 1.0) : 0.0) * scale;
   const float y = (uv.y > 0.0 ? min(uv.y, 1.0) : 0.0) * scale;
@@ -340,9 +352,14 @@ bool stored(int layer, vec2 uv, out float value) {
     c01 = sampleCode(tile, a0, b0 + 1);
     c11 = sampleCode(tile, a0 + 1, b0 + 1);
   }
-  if (c00 == gEmptyCode || c10 == gEmptyCode || c01 == gEmptyCode || c11 == gEmptyCode) return false;
-  const float top = float(c00) + fx * (float(c10) - float(c00));
-  const float bottom = float(c01) + fx * (float(c11) - float(c01));
+  float d00 = float(c00), d10 = float(c10), d01 = float(c01), d11 = float(c11);
+  const int emptyCount = int(c00 == gEmptyCode) + int(c10 == gEmptyCode) + int(c01 == gEmptyCode) + int(c11 == gEmptyCode);
+  if (emptyCount > 0) {
+    if (!emptyLinesCrossed || emptyCount == 4) return false;
+    mixedTexel(d00, d10, d01, d11, float(gEmptyCode), emptyCount);
+  }
+  const float top = d00 + fx * (d10 - d00);
+  const float bottom = d01 + fx * (d11 - d01);
   value = (top + fy * (bottom - top)) * gDistanceScale;
   return true;
 }
@@ -354,7 +371,7 @@ float field(vec3 p, out FacePoint fp) {
   const int layer = layerOf(fp.face);
   if (layer < 0) return emptyValue;
   float s;
-  if (!stored(layer, fp.uv, s)) return emptyValue;
+  if (!stored(layer, fp.uv, gInterior, s)) return emptyValue;
   return gInterior && !gCentreInside ? s - fp.distance : fp.distance - s;
 }
 
@@ -537,7 +554,7 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
   uint steps = 0u;
   bool inside = false, known = true;  // known false: an empty texel cell with a hole's rim in the cell
   float d;
-  if (stored(layer, vec2(axisOf(p0, ua), axisOf(p0, va)), d)) inside = clamp(depth0, 0.0, depthLimit) > d;
+  if (stored(layer, vec2(axisOf(p0, ua), axisOf(p0, va)), false, d)) inside = clamp(depth0, 0.0, depthLimit) > d;
   else known = !gOpenSurface;
   const float edge = float(gTexels - 1);
   while (s < 1.0) {

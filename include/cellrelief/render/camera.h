@@ -40,6 +40,27 @@ struct Camera {
     return {forward, right, glm::cross(right, forward), std::tan(0.5 * verticalFovDegrees * M_PI / 180)};
   }
 
+  /// The frame of primaryRay in float, as a GPU backend uploads it and its shader makes the rays
+  /// (the image plane's axes scaled by the half-extents). The CPU backend makes its rays with it
+  /// too: rays made in double differ from the shader's in the last bits, and a ray that grazes a
+  /// surface or a node boundary then takes another step or even another side of it.
+  struct FloatFrame {
+    Vec3f eye{0}, forward{0}, right{0}, up{0};
+    int width = 1, height = 1;
+    /// The ray through the centre of pixel (x, y), in the shader's arithmetic.
+    Rayf ray(int x, int y) const {
+      const float sx = 2.0f * (float(x) + 0.5f) / float(width) - 1.0f;
+      const float sy = 1.0f - 2.0f * (float(y) + 0.5f) / float(height);
+      return Rayf(eye, glm::normalize(forward + sx * right + sy * up));
+    }
+  };
+  FloatFrame floatFrame(int width, int height) const {
+    const Basis b = basis();
+    const double aspect = double(width) / double(height);
+    return {Vec3f(eye), Vec3f(b.forward), Vec3f(b.right * (b.tanHalf * aspect)), Vec3f(b.up * b.tanHalf), width,
+            height};
+  }
+
   /// The ray through the centre of pixel (x, y) of a width x height image (y down).
   Rayd primaryRay(int x, int y, int width, int height) const {
     const Basis b = basis();

@@ -116,6 +116,25 @@ class ReliefTracer {
   /// shading of the hit.
   bool occluded(const Ray<T>& ray) const { return trace(ray, false).valid(); }
 
+  /// The signed field the search reads at a world point (positive inside the object), or nullopt
+  /// outside every grey cell: for diagnostics, such as telling a search that stepped over the
+  /// surface from a relief that has none there (bench_silhouettes).
+  std::optional<T> fieldAt(const Vec3<T>& pointWS) const {
+    const Vec3<T> u = (pointWS - mOrigin) / mCellSize;
+    if (!(glm::all(glm::greaterThanEqual(u, Vec3<T>(0))) && glm::all(glm::lessThanEqual(u, Vec3<T>(mModel.gridSize)))))
+      return std::nullopt;
+    const Vec3i c = glm::min(Vec3i(glm::floor(u)), Vec3i(mModel.gridSize - 1));
+    const std::int32_t index = mGrid->getConstAccessor().getValue(openvdb::Coord(c.x, c.y, c.z));
+    if (index < 0) return std::nullopt;
+    const relief::CellRecord& record = mModel.cells[index];
+    return mModel.visitDistanceCodes([&](const auto& codes) {
+      return record.projection<T>().visit([&](const auto& p) {
+        projection::FacePoint<T> fp;
+        return std::optional<T>(field(codes, p, record, u - Vec3<T>(c), fp));
+      });
+    });
+  }
+
  private:
   /// The texel width is chosen here, once per ray: below, reading a sample has no branch on it.
   Hit trace(const Ray<T>& input, bool shadeHit) const {
@@ -199,9 +218,11 @@ class ReliefTracer {
   }
 
   /// Bilinearly filtered stored distance at face coordinates, or nullopt when one of the four
-  /// samples is empty (the rim of the surface's projection: the field changes side there).
+  /// samples is empty (the rim of the surface's projection: the field changes side there). With
+  /// `emptyLinesCrossed` (interior cells), a texel with some samples empty is read as mixedTexel
+  /// says, and nullopt means all four are empty.
   template <class Codes>
-  std::optional<T> stored(const Codes& codes, int layer, const Vec2<T>& uv) const {
+  std::optional<T> stored(const Codes& codes, int layer, const Vec2<T>& uv, bool emptyLinesCrossed = false) const {
     const int texels = mModel.texels;
     // Written so that NaN lands on 0: an index from NaN would be undefined.
     const T x = (uv.x > T(0) ? std::min(uv.x, T(1)) : T(0)) * T(texels - 1);
@@ -209,14 +230,31 @@ class ReliefTracer {
     const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
     const T fx = x - T(a0), fy = y - T(b0);
     const relief::DistanceCodec& codec = mModel.distanceCodec;
-    const std::uint32_t c00 = codes(layer, a0, b0);
-    const std::uint32_t c10 = codes(layer, a0 + 1, b0);
-    const std::uint32_t c01 = codes(layer, a0, b0 + 1);
-    const std::uint32_t c11 = codes(layer, a0 + 1, b0 + 1);
-    if (codec.isEmpty(c00) || codec.isEmpty(c10) || codec.isEmpty(c01) || codec.isEmpty(c11)) return std::nullopt;
-    const T top = T(c00) + fx * (T(c10) - T(c00));
-    const T bottom = T(c01) + fx * (T(c11) - T(c01));
+    T c00 = T(codes(layer, a0, b0)), c10 = T(codes(layer, a0 + 1, b0));
+    T c01 = T(codes(layer, a0, b0 + 1)), c11 = T(codes(layer, a0 + 1, b0 + 1));
+    const T empty = T(codec.emptyCode());
+    const int emptyCount = int(c00 >= empty) + int(c10 >= empty) + int(c01 >= empty) + int(c11 >= empty);
+    if (emptyCount > 0) {
+      if (!emptyLinesCrossed || emptyCount == 4) return std::nullopt;
+      mixedTexel(c00, c10, c01, c11, empty, emptyCount);
+    }
+    const T top = c00 + fx * (c10 - c00);
+    const T bottom = c01 + fx * (c11 - c01);
     return (top + fy * (bottom - top)) * mDistanceScale;
+  }
+
+  /// A texel of an interior cell (case 0) with some but not all of its samples empty. An empty
+  /// line there lies wholly on the centre's side, so the surface crossed the face before it; a
+  /// filled one, after its face point, at its distance. Read as empty, the whole texel took the
+  /// centre's side, and the relief grew by up to a texel where the surface leaves the cell
+  /// through a domain face (the most of the "only ours" disagreements with Embree on closed
+  /// meshes). Instead each empty sample reads as the negated mean of the filled ones: the
+  /// interpolated surface then crosses the face halfway between an empty and a filled sample.
+  static void mixedTexel(T& c00, T& c10, T& c01, T& c11, T empty, int emptyCount) {
+    auto filled = [&](T c) { return c < empty ? c : T(0); };
+    const T mirrored = -(filled(c00) + filled(c10) + filled(c01) + filled(c11)) / T(4 - emptyCount);
+    for (T* c : {&c00, &c10, &c01, &c11})
+      if (*c >= empty) *c = mirrored;
   }
 
   /// The signed field at a unit-cell point: positive inside the object, negative outside.
@@ -233,7 +271,7 @@ class ReliefTracer {
     const T emptyValue = interior && r.centreInside() ? kEmptyField : -kEmptyField;
     const int layer = r.layerOf(fp.face);
     if (layer < 0) return emptyValue;
-    const std::optional<T> s = stored(codes, layer, fp.uv);
+    const std::optional<T> s = stored(codes, layer, fp.uv, interior);
     if (!s) return emptyValue;
     return interior && !r.centreInside() ? *s - fp.distance : fp.distance - *s;
   }

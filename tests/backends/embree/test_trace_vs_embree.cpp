@@ -122,12 +122,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         // Open meshes (holes): no side is carried across cell faces (ReliefModel::openSurface()).
         // The bunny has 5 holes; before that rule it disagreed on 3.6e-3 of the rays, p95 4.6 texels.
-        MeshCase{"bunny", "meshes/medium/stanford-bunny__common-3d-test-models.obj", 7e-4, 0.02, 0.5, 2, 15},
-        MeshCase{"armadillo", "meshes/medium/armadillo__libigl-tutorial-data.obj", 2e-3, 0.05, 1.5, 5, 2},
-        MeshCase{"fertility", "meshes/small/fertility_9k__libigl-tutorial-data.off", 2e-3, 0.02, 1.2, 1, 2},
-        MeshCase{"3holes", "meshes/small/3holes__cinolib.obj", 5e-4, 0.01, 0.2, 0.5, 2},
-        MeshCase{"spot", "meshes/small/spot__common-3d-test-models.obj", 8e-4, 0.01, 0.5, 0.5, 2},
-        MeshCase{"igea", "meshes/large/igea__common-3d-test-models.ply", 1.5e-3, 0.05, 0.25, 6, 2},
+        // Closed meshes: before interior cells read a texel with some empty samples as crossing the
+        // face (ReliefTracer::mixedTexel), armadillo disagreed on 1.1e-3, p95 0.9 texels; fertility
+        // 1.0e-3, p95 0.58.
+        MeshCase{"bunny", "meshes/medium/stanford-bunny__common-3d-test-models.obj", 3e-4, 0.02, 0.25, 2, 10},
+        MeshCase{"armadillo", "meshes/medium/armadillo__libigl-tutorial-data.obj", 6e-4, 0.05, 0.5, 5, 2},
+        MeshCase{"fertility", "meshes/small/fertility_9k__libigl-tutorial-data.off", 4e-4, 0.02, 0.3, 1, 2},
+        MeshCase{"3holes", "meshes/small/3holes__cinolib.obj", 2e-4, 0.01, 0.1, 0.5, 2},
+        MeshCase{"spot", "meshes/small/spot__common-3d-test-models.obj", 3.5e-4, 0.01, 0.15, 0.5, 2},
+        MeshCase{"igea", "meshes/large/igea__common-3d-test-models.ply", 9e-4, 0.05, 0.25, 6, 2},
         // A thin shell with white space on both sides: planar cells' sheets cross the mid-plane
         // (convert.h, kPastMidPlaneSamples; 2.6e-3 of the rays disagreed, 51 pinholes, before).
         MeshCase{"laurana", "meshes/medium/laurana__cinolib.obj", 3.5e-3, 0.01, 0.3, 1, 50},

@@ -151,10 +151,10 @@ class CpuBackend final : public render::Backend {
                   int ty) {
     const int x1 = std::min(options.width, (tx + 1) * kTileSize);
     const int y1 = std::min(options.height, (ty + 1) * kTileSize);
+    const render::Camera::FloatFrame frame = camera.floatFrame(options.width, options.height);
     for (int y = ty * kTileSize; y < y1; ++y)
       for (int x = tx * kTileSize; x < x1; ++x) {
-        const Rayd primary = camera.primaryRay(x, y, options.width, options.height);
-        const Rayf ray(Vec3f(primary.origin), Vec3f(primary.direction));
+        const Rayf ray = frame.ray(x, y);
         const SceneHit sh = intersect(ray);
         if (mFrame.has(render::kSteps)) mFrame.steps.at(x, y, 0) = float(sh.steps);
         if (!sh.valid()) {
