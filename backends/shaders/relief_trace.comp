@@ -321,14 +321,22 @@ uint sampleCode(ivec3 tile, int a, int b) {
 }
 
 // ReliefTracer::mixedTexel: in an interior cell, an empty sample of a texel with filled ones reads
-// as the negated mean of those (the surface crossed the face before its line).
+// as a distance at or before the face: alone, the plane through the other three (at most 0); with
+// other empty ones, half the negated mean of the filled samples.
 void mixedTexel(inout float c00, inout float c10, inout float c01, inout float c11, float empty, int emptyCount) {
-  const float mirrored = -((c00 < empty ? c00 : 0.0) + (c10 < empty ? c10 : 0.0) + (c01 < empty ? c01 : 0.0) +
-                           (c11 < empty ? c11 : 0.0)) / float(4 - emptyCount);
-  c00 = c00 < empty ? c00 : mirrored;
-  c10 = c10 < empty ? c10 : mirrored;
-  c01 = c01 < empty ? c01 : mirrored;
-  c11 = c11 < empty ? c11 : mirrored;
+  if (emptyCount == 1) {
+    if (c00 >= empty) c00 = min(c10 + c01 - c11, 0.0);
+    if (c10 >= empty) c10 = min(c00 + c11 - c01, 0.0);
+    if (c01 >= empty) c01 = min(c00 + c11 - c10, 0.0);
+    if (c11 >= empty) c11 = min(c10 + c01 - c00, 0.0);
+    return;
+  }
+  const float beforeFace = -0.5 * ((c00 < empty ? c00 : 0.0) + (c10 < empty ? c10 : 0.0) + (c01 < empty ? c01 : 0.0) +
+                                   (c11 < empty ? c11 : 0.0)) / float(4 - emptyCount);
+  c00 = c00 < empty ? c00 : beforeFace;
+  c10 = c10 < empty ? c10 : beforeFace;
+  c01 = c01 < empty ? c01 : beforeFace;
+  c11 = c11 < empty ? c11 : beforeFace;
 }
 
 // ReliefTracer::stored: bilinear in the codes, false when a corner is empty (in an interior cell,
