@@ -426,12 +426,16 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
   float tPrev = t0, tCrossing = t0;
   uint steps = 1u;
   bool crossed = false;
+  int facePrev = fp.face;
   for (int i = 1; i <= linear; ++i) {
     const float t = t0 + (t1 - t0) * float(i) / float(linear);
     const float f = field(localPoint(t), fp);
     ++steps;
-    // With a hole's rim in the cell, a step between an empty line and one with surface is no crossing.
-    if ((fPrev > 0.0) != (f > 0.0) &&
+    // With a hole's rim in the cell, a step between an empty line and one with surface is no crossing;
+    // nor is a step across a planar cell's mid-plane (each half reads its own face, as in skipSearch).
+    const bool otherHalf = gProjection == CR_PROJ_PLANAR && fp.face != facePrev;
+    facePrev = fp.face;
+    if (!otherHalf && (fPrev > 0.0) != (f > 0.0) &&
         !(gOpenSurface && (abs(fPrev) >= CR_EMPTY_FIELD || abs(f) >= CR_EMPTY_FIELD))) {
       crossed = true;
       tCrossing = t;

@@ -206,11 +206,18 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
   // In a cell with a hole's rim, a step between an empty line and one with surface is no
   // crossing: the empty line may look through the hole (CellRecord::kOpenSurface).
   const bool open = r.openSurface();
+  int facePrev = fp.face;
   for (int i = 1; i <= linear; ++i) {
     const T t = t0 + (t1 - t0) * T(i) / T(linear);
     const T f = field(codes, proj, r, local(t), fp);
     ++steps;
-    if ((fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f))))
+    // Nor is a step across a planar cell's mid-plane: each half reads its own face, and its side
+    // there says nothing of the other half's (as in skipSearch, which searches the halves apart).
+    // Counted as a crossing, the flip between a half that sees a sheet near its face (inside up
+    // to the mid-plane) and a half without surface made false hits on the mid-plane.
+    const bool otherHalf = std::is_same_v<P, projection::PlanarProjection<T>> && fp.face != facePrev;
+    facePrev = fp.face;
+    if (!otherHalf && (fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f))))
       return refineCrossing(codes, proj, r, index, ray, frame, tPrev, t, fPrev > 0, steps);
     fPrev = f;
     tPrev = t;
