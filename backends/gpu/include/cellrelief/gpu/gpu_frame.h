@@ -14,7 +14,6 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cellrelief/gpu/gpu_layout.h"
@@ -129,13 +128,14 @@ inline FrameLayout frameLayout(const render::RenderOptions& o, unsigned written,
 inline FrameParams frameParams(const render::Scene& scene, const render::Camera& camera,
                                const render::RenderOptions& o, const FrameLayout& layout) {
   FrameParams p{};
-  auto put = [](float* dst, const Vec3d& v, float w = 0) {
+  auto put = [](float* dst, const auto& v, float w = 0) {
     dst[0] = float(v.x), dst[1] = float(v.y), dst[2] = float(v.z), dst[3] = w;
   };
   const render::Camera::FloatFrame frame = camera.floatFrame(o.width, o.height);
-  for (auto [dst, v] : {std::pair{p.eye, frame.eye}, std::pair{p.forward, frame.forward},
-                        std::pair{p.right, frame.right}, std::pair{p.up, frame.up}})
-    dst[0] = v.x, dst[1] = v.y, dst[2] = v.z, dst[3] = 0;
+  put(p.eye, frame.eye);
+  put(p.forward, frame.forward);
+  put(p.right, frame.right);
+  put(p.up, frame.up);
   put(p.ambient, Vec3d(scene.ambient));
   for (int c = 0; c < 4; ++c) p.background[c] = scene.background[c];
   for (std::size_t i = 0; i < scene.lights.size() && i < std::size_t(kMaxLights); ++i) {
