@@ -8,7 +8,9 @@
 /// in sample spacings and as a fraction of the diagonal), hit/miss disagreement and the bytes of the
 /// representation. In the same run: Embree's rtcIntersect1 on the original mesh, and OpenVDB's
 /// LevelSetRayIntersector on meshToLevelSet grids with the voxel size matched to our error and,
-/// separately, to our memory. Writes trace.csv and a plot of the Pareto front (trace_pareto.png).
+/// separately, to our memory; and memory at equal error, against our smallest setting and our memory
+/// curve. Writes trace.csv, a plot of the Pareto front (trace_pareto.png) and one of bytes against
+/// error (trace_memory.png).
 ///
 ///   bench_trace [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 512]
 #include <atomic>
@@ -136,6 +138,7 @@ struct LevelSetTracer {
 struct SweepPoint {
   int n = 0, texels = 0, minLinear = 4, maxLinear = 64, binary = 8;
   int skip = 2;  ///< empty-space skipping: 0 off, 1 parallel and planar cells, 2 central cells too
+  int bits = 16;  ///< distance quantization
 };
 
 const char* skipName(int skip) { return skip == 0 ? "off" : skip == 1 ? "flat" : "all"; }
@@ -149,6 +152,44 @@ double meanSteps(const trace::ReliefTracerf& tracer, const std::vector<Rayf>& ra
     total += local;
   }, 1024);
   return double(total) / double(std::max<std::size_t>(1, rays.size()));
+}
+
+/// One point of a memory curve: median depth error (fraction of the diagonal) and bytes.
+struct MemoryPoint {
+  double error = 0, bytes = 0;
+};
+
+/// The points no other point beats in both error and bytes, by increasing error (so decreasing
+/// bytes): the least memory that reaches each error.
+std::vector<MemoryPoint> memoryFront(std::vector<MemoryPoint> points) {
+  std::sort(points.begin(), points.end(), [](const MemoryPoint& a, const MemoryPoint& b) {
+    return a.error < b.error || (a.error == b.error && a.bytes < b.bytes);
+  });
+  std::vector<MemoryPoint> front;
+  for (const MemoryPoint& p : points)
+    if (front.empty() || p.bytes < front.back().bytes) front.push_back(p);
+  return front;
+}
+
+/// Bytes of the smallest point of `front` at least as accurate as `error` (a setting that was
+/// measured), or NaN when none is.
+double bytesOfSetting(const std::vector<MemoryPoint>& front, double error) {
+  double bytes = NAN;
+  for (const MemoryPoint& p : front)
+    if (p.error <= error) bytes = p.bytes;
+  return bytes;
+}
+
+/// Bytes on the front at `error`, interpolated log-log between its neighbouring points (grids
+/// and texel counts between the measured ones), or NaN below the front's least error.
+double bytesOnCurve(const std::vector<MemoryPoint>& front, double error) {
+  if (front.empty() || error < front.front().error) return NAN;
+  for (std::size_t i = 0; i + 1 < front.size(); ++i)
+    if (error < front[i + 1].error) {
+      const double s = std::log(error / front[i].error) / std::log(front[i + 1].error / front[i].error);
+      return std::exp(std::log(front[i].bytes) + s * std::log(front[i + 1].bytes / front[i].bytes));
+    }
+  return front.back().bytes;
 }
 
 }  // namespace
@@ -183,10 +224,11 @@ int main(int argc, char** argv) {
   }
 
   bench::CsvWriter csv(std::filesystem::path(options.out) / "trace.csv",
-                       "mesh,method,N,T,min_linear,max_linear,binary,skip,bytes,primary_mrays,"
+                       "mesh,method,N,T,bits,min_linear,max_linear,binary,skip,bytes,primary_mrays,"
                        "secondary_mrays,steps_per_ray,median_error_texels,p95_error_texels,median_error_diag,"
                        "p95_error_diag,disagreements_per_million,secondary_disagreements_per_million");
   std::vector<app::PlotSeries> plotSeries;
+  app::Plot memoryPlot;
   std::printf("threads: %d; primary rays %dx%d from a framing camera; secondary rays: random outer "
               "hemisphere directions from points on the surface, shuffled\n", options.threads, size, size);
   for (const auto& [name, mesh] : meshes) {
@@ -207,10 +249,10 @@ int main(int argc, char** argv) {
     std::printf("\n%s: %zu triangles; Embree rtcIntersect1: %.2f Mrays/s primary, %.2f secondary; "
                 "mesh + BVH %s bytes\n", name.c_str(), mesh.triangleCount(), embreeMraysPrimary,
                 embreeMraysSecondary, std::to_string(embree.byteSize()).c_str());
-    csv.row(name, "embree", 0, 0, 0, 0, 0, 0, embree.byteSize(), embreeMraysPrimary,
+    csv.row(name, "embree", 0, 0, 0, 0, 0, 0, 0, embree.byteSize(), embreeMraysPrimary,
             embreeMraysSecondary, 0, 0, 0, 0, 0, 0, 0);
-    std::printf("%5s %4s %8s %3s %4s %10s %9s %9s %7s %8s %8s %10s %8s %8s | %7s %7s %7s\n", "N", "T",
-                "linear", "bin", "skip", "bytes", "prim Mr/s", "sec Mr/s", "steps", "med tx", "p95 tx",
+    std::printf("%5s %4s %4s %8s %3s %4s %10s %9s %9s %7s %8s %8s %10s %8s %8s | %7s %7s %7s\n", "N", "T",
+                "bits", "linear", "bin", "skip", "bytes", "prim Mr/s", "sec Mr/s", "steps", "med tx", "p95 tx",
                 "med diag", "dis/M", "sec dis/M", "vs Emb", "sec vs", "memory");
 
     // The sweep: grids around the automatic choice, texels, search parameters, skipping.
@@ -222,19 +264,30 @@ int main(int argc, char** argv) {
     for (int n : grids)
       for (int texels : texelChoices) {
         for (int skip : {2, 1, 0}) sweep.push_back({n, texels, 4, 64, 8, skip});
-        if (!quick)
+        if (!quick) {
           for (int skip : {2, 1, 0}) sweep.push_back({n, texels, 2, 32, 6, skip});
+          // 8-bit distances: half the bytes, for the memory curve.
+          sweep.push_back({n, texels, 4, 64, 8, 2, 8});
+        }
       }
+    // Coarse grids between the automatic one and 8, for the memory curve only.
+    if (!quick)
+      for (int n : {2, 4})
+        if (n > automatic.gridSize)
+          for (int texels : texelChoices)
+            for (int skip : {2, 0}) sweep.push_back({n, texels, 4, 64, 8, skip});
     std::vector<double> frontError, frontSpeed, allError, allSpeed, allBytes;
+    std::vector<MemoryPoint> memoryPoints;
     double bestMatchedError = INFINITY, ourBytesAtBest = 0, ourSpeedAtBest = 0;
     std::shared_ptr<relief::ReliefModel> model;
-    int modelN = -1, modelT = -1;
+    int modelN = -1, modelT = -1, modelBits = -1;
     for (const SweepPoint& p : sweep) {
-      if (p.n != modelN || p.texels != modelT) {
+      if (p.n != modelN || p.texels != modelT || p.bits != modelBits) {
         model = std::make_shared<relief::ReliefModel>(
-            relief::convert(mesh, {.gridSize = p.n, .texels = p.texels}));
+            relief::convert(mesh, {.gridSize = p.n, .texels = p.texels, .distanceBits = p.bits}));
         modelN = p.n;
         modelT = p.texels;
+        modelBits = p.bits;
       }
       const trace::TraceOptions to{.minLinearSteps = p.minLinear, .maxLinearSteps = p.maxLinear,
                                    .binarySteps = p.binary, .skipEmptySpace = p.skip > 0,
@@ -251,19 +304,20 @@ int main(int argc, char** argv) {
       const double steps = meanSteps(tracer, primary.rays);
       char linear[16];
       std::snprintf(linear, sizeof linear, "%d-%d", p.minLinear, p.maxLinear);
-      std::printf("%5d %4d %8s %3d %4s %10zu %9.2f %9.2f %7.1f %8.3f %8.3f %10.2e %8.0f %8.0f | %6.2fx %6.2fx %6.1fx\n",
-                  model->gridSize, model->texels, linear, p.binary, skipName(p.skip), bytes, mr1, mr2, steps,
+      std::printf("%5d %4d %4d %8s %3d %4s %10zu %9.2f %9.2f %7.1f %8.3f %8.3f %10.2e %8.0f %8.0f | %6.2fx %6.2fx %6.1fx\n",
+                  model->gridSize, model->texels, p.bits, linear, p.binary, skipName(p.skip), bytes, mr1, mr2, steps,
                   a.medianError / spacing, a.p95Error / spacing, a.medianError / diagonal,
                   1e6 * a.disagreements / primaryCount, 1e6 * a2.disagreements / secondaryCount,
                   mr1 / embreeMraysPrimary, mr2 / embreeMraysSecondary,
                   double(embree.byteSize()) / double(bytes));
-      csv.row(name, "relief", model->gridSize, model->texels, p.minLinear, p.maxLinear, p.binary,
+      csv.row(name, "relief", model->gridSize, model->texels, p.bits, p.minLinear, p.maxLinear, p.binary,
               p.skip, bytes, mr1, mr2, steps, a.medianError / spacing, a.p95Error / spacing,
               a.medianError / diagonal, a.p95Error / diagonal, 1e6 * a.disagreements / primaryCount,
               1e6 * a2.disagreements / secondaryCount);
       allError.push_back(a.medianError / diagonal);
       allSpeed.push_back(mr1);
       allBytes.push_back(double(bytes));
+      memoryPoints.push_back({a.medianError / diagonal, double(bytes)});
       // The fastest point within a texel of median error is our headline for the matched peers.
       if (a.medianError <= spacing && mr1 > ourSpeedAtBest) {
         ourSpeedAtBest = mr1;
@@ -303,7 +357,7 @@ int main(int argc, char** argv) {
                   "diagonal, %.0f disagreements per million, %zu bytes\n",
                   1 << k, runs.back().mrays, a.medianError / diagonal,
                   1e6 * double(a.disagreements) / primaryCount, runs.back().bytes);
-      csv.row(name, "openvdb", 1 << k, 0, 0, 0, 0, 0, runs.back().bytes, runs.back().mrays, 0, 0,
+      csv.row(name, "openvdb", 1 << k, 0, 32, 0, 0, 0, 0, runs.back().bytes, runs.back().mrays, 0, 0,
               0, 0, a.medianError / diagonal, a.p95Error / diagonal,
               1e6 * double(a.disagreements) / primaryCount, 0);
       // Our fastest point at least as accurate as this level set: the ratio at equal error.
@@ -312,16 +366,36 @@ int main(int argc, char** argv) {
         if (allError[i] * diagonal <= a.medianError && (match == allError.size() || allSpeed[i] > allSpeed[match]))
           match = i;
       if (match < allError.size())
-        std::printf("    at this error ours: %.2f Mrays/s (%.2fx), %.0f bytes (%.1fx smaller)\n",
+        std::printf("    at this error our fastest: %.2f Mrays/s (%.2fx), %.0f bytes (%.1fx smaller)\n",
                     allSpeed[match], allSpeed[match] / runs.back().mrays, allBytes[match],
                     double(runs.back().bytes) / allBytes[match]);
       else
         std::printf("    at this error: none of our points is as accurate\n");
+      const std::vector<MemoryPoint> leastMemory = memoryFront(memoryPoints);
+      const double setting = bytesOfSetting(leastMemory, a.medianError / diagonal);
+      const double curve = bytesOnCurve(leastMemory, a.medianError / diagonal);
+      if (std::isfinite(setting))
+        std::printf("    at this error our smallest: %.0f bytes (%.1fx smaller); on our memory curve "
+                    "%.0f bytes (%.1fx smaller)\n", setting, double(runs.back().bytes) / setting, curve,
+                    double(runs.back().bytes) / curve);
     }
     app::PlotSeries vdb{name + " OpenVDB level sets", {}, {}, app::Plot::palette(plotSeries.size() / 3 * 3 + 1), true};
     for (const auto& r : runs) vdb.x.push_back(r.median / diagonal), vdb.y.push_back(r.mrays);
     app::PlotSeries emb{name + " Embree (exact)", {diagonal * 1e-7 / diagonal}, {embreeMraysPrimary},
                         app::Plot::palette(plotSeries.size() / 3 * 3 + 2), false};
+    {
+      // Memory against error: every setting, our least memory per error, OpenVDB's level sets.
+      const std::size_t c = memoryPlot.series.size();
+      app::PlotSeries points{name + " settings", {}, {}, app::Plot::palette(c), false};
+      app::PlotSeries curve{name + " least memory", {}, {}, points.color, true};
+      app::PlotSeries levelSets{name + " OpenVDB level sets", {}, {}, app::Plot::palette(c + 1), true};
+      for (const MemoryPoint& p : memoryPoints) points.x.push_back(p.error), points.y.push_back(p.bytes);
+      for (const MemoryPoint& p : memoryFront(memoryPoints)) curve.x.push_back(p.error), curve.y.push_back(p.bytes);
+      for (const auto& r : runs) levelSets.x.push_back(r.median / diagonal), levelSets.y.push_back(double(r.bytes));
+      memoryPlot.series.push_back(std::move(points));
+      memoryPlot.series.push_back(std::move(curve));
+      memoryPlot.series.push_back(std::move(levelSets));
+    }
     plotSeries.push_back(std::move(all));
     plotSeries.push_back(std::move(front));
     plotSeries.push_back(std::move(vdb));
@@ -354,6 +428,13 @@ int main(int argc, char** argv) {
                   byMemory->mrays, byMemory->median / diagonal, bestMatchedError / diagonal);
     }
   }
+  memoryPlot.title = "Relief models against OpenVDB level sets: memory at equal error";
+  memoryPlot.xLabel = "median depth error / diagonal";
+  memoryPlot.yLabel = "bytes";
+  memoryPlot.logX = true;
+  memoryPlot.logY = true;
+  const std::filesystem::path memoryPng = std::filesystem::path(options.out) / "trace_memory.png";
+  memoryPlot.write(memoryPng);
   app::Plot plot;
   plot.title = "Relief ray casting: primary rays, " + std::to_string(options.threads) + " threads";
   plot.xLabel = "median depth error / diagonal";
@@ -366,6 +447,6 @@ int main(int argc, char** argv) {
   std::printf("\nvs Emb = our rays per second / Embree's on the same rays and threads; memory = Embree's "
               "mesh + BVH bytes / ours (model + pyramid); med tx = median depth error in sample spacings "
               "(texels); dis/M = hit/miss disagreements with Embree per million rays. Embree is drawn at "
-              "1e-7 (exact).\nwrote %s and %s\n", csv.path().c_str(), png.c_str());
+              "1e-7 (exact).\nwrote %s, %s and %s\n", csv.path().c_str(), png.c_str(), memoryPng.c_str());
   return 0;
 }
