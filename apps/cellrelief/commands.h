@@ -90,5 +90,6 @@ std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& inpu
 
 Command addCompareBackendsCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
+Command addPolycubeCommand(CLI::App& app);
 
 }  // namespace cellrelief::app

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
       cellrelief::app::addBenchCommand(app),
       cellrelief::app::addIndirectCommand(app),
       cellrelief::app::addCompareOptimizersCommand(app),
+      cellrelief::app::addPolycubeCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

@@ -105,6 +105,37 @@ TEST(Cli, CellsReportsCountsCasesAndOcclusion) {
   }
 }
 
+// `polycube`: automatic, or from a cube file; a bad cube file or a polycube of the wrong genus is
+// refused, naming the file, and writes nothing.
+TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
+  const auto mesh = test::dataDir() / "meshes/small/3holes__cinolib.obj";
+  CELLRELIEF_REQUIRE_FILE(mesh);
+  test::TempDir dir;
+  const Result r = run("polycube " + mesh.string() + " -o " + (dir / "auto").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* words : {"chosen N = 10", "genus 3 (mesh: 3)", "vertex cases", "5:"})
+    EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
+  for (const char* file : {"polycube.txt", "polycube_surface.ply", "polycube_cases.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "auto" / file)) << file;
+  // The written cube file is accepted back.
+  const Result again = run("polycube " + mesh.string() + " --cubes " + (dir / "auto" / "polycube.txt").string() +
+                           " -o " + (dir / "again").string());
+  EXPECT_EQ(again.status, 0) << again.output;
+  test::writeBytes(dir / "box.txt", "0 0 0\n1 0 0\n");
+  test::writeBytes(dir / "edge.txt", "0 0 0\n1 1 0\n");
+  test::writeBytes(dir / "bad.txt", "0 0 0\n1 zero 0\n");
+  const std::pair<std::string, std::string> cases[] = {
+      {"box.txt", "genus 0, the mesh 3"}, {"edge.txt", "not a 2-manifold"}, {"bad.txt", "line 2"}};
+  for (const auto& [file, words] : cases) {
+    const Result e = run("polycube " + mesh.string() + " --cubes " + (dir / file).string() + " -o " +
+                         (dir / ("out_" + file)).string());
+    EXPECT_EQ(e.status, 1) << file << ": " << e.output;
+    EXPECT_TRUE(test::hasWords(e.output, (dir / file).string())) << e.output;
+    EXPECT_TRUE(test::hasWords(e.output, words)) << e.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / ("out_" + file))) << file;
+  }
+}
+
 // Flat meshes convert (as a thin closed slab), and so do surfaces lying in planes of the grid
 // (three crossing coordinate planes): a model whose error is measured and finite. A "mesh" whose
 // triangles have no area at all is refused: a clear error naming the file, exit 1 and no model,

@@ -17,6 +17,7 @@
 #include <cellrelief/io/detail/crc32.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
+#include <cellrelief/polycube/polycube_file.h>
 #include <cellrelief/relief/model_file.h>
 #include <cellrelief/relief/reconstruct.h>
 
@@ -116,6 +117,21 @@ bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum
       if (double(model.cells.size()) * cubes * cubes * cubes <= double(1 << 20))
         (void)relief::reconstruct(model, {lod, relief::ReconstructionMethod::Closed});
     }
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+bool readPolycubeBytes(const std::uint8_t* data, std::size_t size) {
+  const std::filesystem::path& path = scratchFor(".txt").write(data, size);
+  try {
+    const polycube::PolycubeFile file = polycube::readPolycube(path);
+    if (file.polycube.empty()) std::abort();  // readPolycube promises cubes
+    const polycube::SurfaceStats stats = file.polycube.surfaceStats();
+    if (stats.faces == 0 || stats.faces % 2 != 0) std::abort();  // a closed union of cubes
+    (void)file.polycube.nonManifoldVertices();
+    (void)file.polycube.surfaceMesh(file.frame);
     return true;
   } catch (const Error&) {
     return false;

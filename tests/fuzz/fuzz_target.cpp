@@ -11,6 +11,7 @@
 #define CELLRELIEF_FUZZ_MESH 1
 #define CELLRELIEF_FUZZ_IMAGE 2
 #define CELLRELIEF_FUZZ_MODEL 3
+#define CELLRELIEF_FUZZ_POLYCUBE 4
 
 /// Decoding costs about 0.3 us a pixel in the release build and 20 times that under ASan and
 /// UBSan, so an image of more than 2^18 pixels (a 2.9 KB JPEG can claim 625,000) passes the 1 s
@@ -28,8 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Half the inputs as they are (the header and checksum checks), half with the checksum made
   // right, so that mutations of the look-up table and maps reach the checks behind it.
   cellrelief::fuzz::readModelBytes(data, size, size > 0 && (data[size - 1] & 1));
+#elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_POLYCUBE
+  cellrelief::fuzz::readPolycubeBytes(data, size);
 #else
-#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE or _MODEL"
+#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE, _MODEL or _POLYCUBE"
 #endif
   return 0;
 }

@@ -17,6 +17,7 @@
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
+#include <cellrelief/polycube/polycube_file.h>
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/relief/model_file.h>
 
@@ -180,6 +181,18 @@ void modelSeeds(const fs::path& root) {
   }
 }
 
+/// Cube files: a ring (genus 1) with a frame, and an L of cubes without one.
+void polycubeSeeds(const fs::path& root) {
+  const fs::path dir = root / "polycube";
+  fs::create_directories(dir);
+  std::vector<Vec3i> ring;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x)
+      if (x != 1 || y != 1) ring.push_back({x, y, 0});
+  polycube::writePolycube(polycube::Polycube(ring), {Vec3d(-0.5, 0.25, 1), 0.125}, dir / "ring.txt");
+  std::ofstream(dir / "l_shape.txt") << "# an L\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -192,6 +205,7 @@ int main(int argc, char** argv) {
     meshSeeds(root);
     imageSeeds(root);
     modelSeeds(root);
+    polycubeSeeds(root);
     std::cout << "fuzz seeds written under " << root << "\n";
     return 0;
   } catch (const std::exception& e) {

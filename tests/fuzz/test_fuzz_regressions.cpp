@@ -20,7 +20,7 @@ namespace {
 
 const fs::path kFuzzDir = CELLRELIEF_FUZZ_DIR;
 const std::vector<std::string> kTargets{"obj",  "ply_ascii", "ply_binary", "off", "stl_ascii", "stl_binary",
-                                        "png",  "jpeg",      "tga",        "bmp", "crm"};
+                                        "png",  "jpeg",      "tga",        "bmp", "crm", "polycube"};
 
 std::vector<std::uint8_t> bytesOf(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -31,6 +31,7 @@ std::vector<std::uint8_t> bytesOf(const fs::path& path) {
 bool readAs(const std::string& target, const std::vector<std::uint8_t>& b) {
   using namespace cellrelief::fuzz;
   if (target == "crm") return readModelBytes(b.data(), b.size(), false);
+  if (target == "polycube") return readPolycubeBytes(b.data(), b.size());
   const std::string ext = target.substr(0, target.find('_'));
   if (target == "png" || target == "jpeg" || target == "tga" || target == "bmp")
     return readImageBytes(target == "jpeg" ? ".jpg" : "." + ext, b.data(), b.size());

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+/// @file command_polycube.cpp
+/// `cellrelief polycube <mesh> -o <dir> [--grid N|auto] [--cubes FILE]`: the polycube texture
+/// domain of a mesh (PolyCube-Maps), built automatically or read from a cube file, checked (closed
+/// 2-manifold, one piece, the mesh's genus) and written as the cube file, its surface coloured by
+/// vertex case (PLY) and a picture of that. Nothing is written unless every check passes.
+#include <cstdio>
+#include <memory>
+
+#include <cellrelief/io/mesh_io.h>
+#include <cellrelief/polycube/from_mesh.h>
+#include <cellrelief/polycube/polycube_file.h>
+
+#include "commands.h"
+#include "preview.h"
+
+namespace cellrelief::app {
+
+namespace {
+
+struct PolycubeCommandOptions {
+  std::string mesh, output, grid = "auto", cubes;
+};
+
+/// One colour per vertex case, as in the paper's Fig. 11 (cases 3 to 6b).
+constexpr Color8 kVertexCaseColours[polycube::kVertexCaseCount] = {
+    {234, 67, 53, 255}, {200, 200, 200, 255}, {66, 133, 244, 255},
+    {251, 188, 5, 255}, {52, 168, 83, 255},   {171, 71, 188, 255}};
+
+/// The surface with each lattice vertex coloured by its case.
+TriangleMesh surfaceByCase(const polycube::Polycube& p, const polycube::PolycubeFrame& frame) {
+  TriangleMesh mesh = p.surfaceMesh(frame);
+  mesh.colors.resize(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const Vec3i lattice(glm::round((Vec3d(mesh.positions[v]) - frame.origin) / frame.cubeSize));
+    const auto& info = polycube::kVertexConfigurations[p.vertexConfiguration(lattice)];
+    mesh.colors[v] = kVertexCaseColours[static_cast<int>(info.vertexCase)];
+  }
+  mesh.sourcePolygons = mesh.triangles.size();
+  return mesh;
+}
+
+/// A given polycube without a frame is placed over the mesh: centred on its bounds, scaled
+/// uniformly so its largest extent is the mesh's.
+polycube::PolycubeFrame fitFrame(const polycube::Polycube& p, const TriangleMesh& mesh) {
+  const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
+  const Vec3d lo(p.minCube()), hi(Vec3d(p.maxCube()) + Vec3d(1));
+  const Vec3d meshExtent = bounds.max - bounds.min, cubeExtent = hi - lo;
+  const double size = std::max({meshExtent.x, meshExtent.y, meshExtent.z}) /
+                      std::max({cubeExtent.x, cubeExtent.y, cubeExtent.z});
+  return {bounds.center() - size * 0.5 * (lo + hi), size};
+}
+
+int runPolycube(const PolycubeCommandOptions& o) {
+  const TriangleMesh mesh = io::readMesh(o.mesh);
+  std::printf("mesh          %s: %zu triangles\n", o.mesh.c_str(), mesh.triangleCount());
+  polycube::Polycube cubes;
+  polycube::PolycubeFrame frame;
+  const std::optional<int> meshGenus = polycube::cappedGenus(analyzeTopology(mesh));
+  if (!o.cubes.empty()) {
+    polycube::PolycubeFile file = polycube::readPolycube(o.cubes);
+    frame = file.hasFrame ? file.frame : fitFrame(file.polycube, mesh);
+    cubes = std::move(file.polycube);
+    const std::vector<Vec3i> bad = cubes.nonManifoldVertices();
+    if (!bad.empty())
+      throw Error(ErrorKind::InvalidInput, o.cubes,
+                  "the polycube's surface is not a 2-manifold at " + std::to_string(bad.size()) +
+                      " lattice vertices, the first (" + std::to_string(bad[0].x) + ", " + std::to_string(bad[0].y) +
+                      ", " + std::to_string(bad[0].z) + "): cubes meet only along an edge or at a corner there");
+    const polycube::SurfaceStats s = cubes.surfaceStats();
+    if (s.components != 1)
+      throw Error(ErrorKind::InvalidInput, o.cubes,
+                  "the polycube's surface has " + std::to_string(s.components) + " pieces; it must be one");
+    if (meshGenus && s.genus() != meshGenus)
+      throw Error(ErrorKind::InvalidInput, o.cubes,
+                  "the polycube has genus " + std::to_string(*s.genus()) + ", the mesh " + std::to_string(*meshGenus));
+    std::printf("polycube      %s: %zu cubes\n", o.cubes.c_str(), cubes.size());
+  } else {
+    polycube::PolycubeOptions options;
+    options.cubesPerSide = parseGridSize(o.grid);
+    const polycube::PolycubeResult r = withPath(o.mesh, [&] { return polycube::polycubeOfMesh(mesh, options); });
+    for (const polycube::PolycubeTrial& t : r.trials)
+      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness), %s\n", t.cubesPerSide, t.cubes,
+                  t.addedForManifold,
+                  t.genus ? ("genus " + std::to_string(*t.genus)).c_str() : "not a closed manifold");
+    std::printf("chosen        N = %d, %.2f s\n", r.cubesPerSide, r.seconds);
+    cubes = r.polycube;
+    frame = r.frame;
+  }
+  const polycube::SurfaceStats s = cubes.surfaceStats();
+  std::printf("surface       %zu faces, %zu vertices, genus %d (mesh: %s)\n", s.faces, s.vertices, s.genus().value_or(-1),
+              meshGenus ? std::to_string(*meshGenus).c_str() : "unknown: not one manifold piece");
+  std::printf("vertex cases ");
+  for (int c = 0; c < polycube::kVertexCaseCount; ++c)
+    std::printf(" %s: %zu", polycube::kVertexCaseNames[c].data(), s.perCase[c]);
+  std::printf("\n");
+
+  const std::filesystem::path dir(o.output);
+  std::filesystem::create_directories(dir);
+  polycube::writePolycube(cubes, frame, dir / "polycube.txt");
+  const TriangleMesh surface = surfaceByCase(cubes, frame);
+  io::writeMesh(surface, dir / "polycube_surface.ply");
+  writePreview(surface, dir / "polycube_cases.png");
+  std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "
+              "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple)\n", dir.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command addPolycubeCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "polycube", "The polycube texture domain of a mesh (PolyCube-Maps): built automatically or read from a cube file");
+  auto o = std::make_shared<PolycubeCommandOptions>();
+  cmd->add_option("mesh", o->mesh, "Mesh file (.obj .ply .off .stl)")->required();
+  cmd->add_option("-o,--output", o->output, "Folder to write the polycube into")->required();
+  cmd->add_option("--grid", o->grid,
+                  "Cubes along the mesh's bounding cube, or 'auto': the coarsest lattice whose polycube keeps the "
+                  "mesh's genus")
+      ->capture_default_str();
+  cmd->add_option("--cubes", o->cubes,
+                  "Use this polycube instead: a text file of integer cube coordinates 'x y z', one per line, "
+                  "optionally a line 'frame x y z size' placing the lattice in world space")
+      ->check(CLI::ExistingFile);
+  return {cmd, [o]() { return runPolycube(*o); }};
+}
+
+}  // namespace cellrelief::app
