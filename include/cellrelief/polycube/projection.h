@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+/// @file projection.h
+/// The projection P of PolyCube-Maps: a point of a dual cell (the 3D texture position of a
+/// fragment, near the polycube's surface) onto the surface inside that cell.
+///
+/// Coordinates are the cell's own, relative to its vertex: the cell is [-1/2, 1/2]^3 and the
+/// squarelets lie in the coordinate planes. P is written once per basic case, in the case's
+/// canonical frame; `project` moves a point into that frame (the inverse of the vertex's
+/// transform), projects it, and moves the result back.
+///
+/// Why these projections: P must be continuous across cell faces, and the two cells that share a
+/// face know only their own configurations. So on every cell face the surface crosses, P keeps
+/// the point in the face and depends only on the face's own 2D configuration (the four cubes the
+/// face cuts):
+/// - a straight line through the face: orthogonal projection onto it;
+/// - a corner (one quadrant of the face solid, or three): central projection from the face's
+///   corner in the odd quadrant. The L is star-shaped from there, and the face's edges through
+///   that corner are projection lines, as the straight-line rule of the next face needs.
+/// Each case's P below restricts to these rules on its faces (tested for every configuration).
+/// P is continuous wherever it is meant to be used, within half a cube of the surface: its
+/// centres and axes lie at least that far away.
+///
+/// - 4a (flat, solid z < 0): orthogonal projection onto z = 0.
+/// - 4b (edge, solid y < 0 and z < 0): axial projection from the cell edge y = z = -1/2.
+/// - 3 (corner, solid octant 0): central projection from the cell corner (-1/2, -1/2, -1/2).
+///   All three are central projections from the point c with c_a = -1/2 on the case's active axes
+///   and c_a = p_a on the others, onto the boundary of the box [-1/2, 0] on the active axes.
+/// - 5 (an L of three cubes, solid z < 0 except x > 0 and y > 0): designed here, the paper gives
+///   no formula. The axis is the vertical cell edge x = y = 1/2 inside the notch. A vertical
+///   half-plane from that axis cuts the surface in a 2D corner (the top z = 0 beyond the notch,
+///   the notch's wall below), and P is that corner's rule in each half-plane, from the point where
+///   the half-plane meets the cell's bottom edge. With r = max(1/2 - x, 1/2 - y) the half-plane
+///   coordinate (the notch's wall at r = 1/2, the cell's far faces at r = 1), this is the 2D
+///   central projection in (2r - 1, z) from (1, -1/2). It reduces to the corner rule on the faces
+///   x = 1/2, y = 1/2 (half-planes themselves) and z = -1/2, and to orthogonal projection on the
+///   faces x = -1/2, y = -1/2 (the half-planes' far edges).
+/// - 6a and 6b: not yet (project() throws Unsupported).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/polycube/vertex_configuration.h"
+
+namespace cellrelief::polycube {
+
+namespace detail {
+
+/// Central projection from c (c_a = -1/2 on the active axes, p_a elsewhere) onto the boundary of
+/// the solid box [-1/2, 0] on the active axes: cases 3, 4a and 4b.
+inline Vec3d projectFromBoxCorner(const Vec3d& p, const bool active[3]) {
+  double t = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+    if (active[a] && p[a] > -0.5) t = std::min(t, 0.5 / (p[a] + 0.5));
+  if (!std::isfinite(t)) return p;  // the centre itself: half a cube from the surface
+  Vec3d q = p;
+  for (int a = 0; a < 3; ++a)
+    if (active[a]) q[a] = -0.5 + t * (p[a] + 0.5);
+  return q;
+}
+
+/// Case 5 in its canonical frame (solid octants 0, 1, 2).
+inline Vec3d projectCase5(const Vec3d& p) {
+  const Vec2d w(p.x - 0.5, p.y - 0.5);  // from the axis x = y = 1/2
+  const double r = std::max(-w.x, -w.y);
+  if (r <= 0) return {0.5, 0.5, 0.0};  // on the axis: half a cube from the surface
+  const double sigma = 2 * r - 1, z = p.z;
+  if (sigma >= 1 && z <= -0.5) return p;  // the half-plane's centre: half a cube from the surface
+  double sigmaImage, zImage;
+  if (sigma >= -2 * z) {  // the ray from (1, -1/2) reaches the top first
+    const double t = 0.5 / (z + 0.5);
+    sigmaImage = 1 + t * (sigma - 1);
+    zImage = 0;
+  } else {  // the notch's wall
+    const double t = 1 / (1 - sigma);
+    sigmaImage = 0;
+    zImage = -0.5 + t * (z + 0.5);
+  }
+  const double rImage = 0.5 * (sigmaImage + 1);
+  return {0.5 + w.x * (rImage / r), 0.5 + w.y * (rImage / r), zImage};
+}
+
+}  // namespace detail
+
+/// P of one case, in the case's canonical frame.
+inline Vec3d projectCanonical(VertexCase c, const Vec3d& p) {
+  static constexpr bool kActive[3][3] = {{true, true, true}, {false, false, true}, {false, true, true}};
+  switch (c) {
+    case VertexCase::k3: return detail::projectFromBoxCorner(p, kActive[0]);
+    case VertexCase::k4a: return detail::projectFromBoxCorner(p, kActive[1]);
+    case VertexCase::k4b: return detail::projectFromBoxCorner(p, kActive[2]);
+    case VertexCase::k5: return detail::projectCase5(p);
+    default:
+      throw Error(ErrorKind::Unsupported, "polycube projection: case " + std::string(toString(c)) + " is not designed yet");
+  }
+}
+
+/// The inverse of applyTransform (a signed permutation: its transpose, then the reflection).
+inline Vec3d applyInverseTransform(int transform, const Vec3d& d) {
+  Vec3d r = cells::kRotations[transform % 24].inverse().apply(d);
+  if (transform >= 24) r.x = -r.x;
+  return r;
+}
+inline Vec3d applyTransform(int transform, Vec3d d) {
+  if (transform >= 24) d.x = -d.x;
+  return cells::kRotations[transform % 24].apply(d);
+}
+
+/// P for a vertex of this configuration: `d` and the result relative to the vertex, in cubes.
+inline Vec3d project(std::uint8_t configuration, const Vec3d& d) {
+  const VertexConfigurationInfo& info = kVertexConfigurations[configuration];
+  if (!info.surface || !info.manifold)
+    throw Error(ErrorKind::InvalidArgument, "polycube projection: configuration " + std::to_string(configuration) +
+                                                " has no manifold surface");
+  return applyTransform(info.transform, projectCanonical(info.vertexCase, applyInverseTransform(info.transform, d)));
+}
+
+}  // namespace cellrelief::polycube
