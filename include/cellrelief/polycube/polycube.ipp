@@ -3,9 +3,8 @@
 /// Bodies of polycube.h.
 #pragma once
 
-#include <map>
-#include <queue>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "cellrelief/core/union_find.h"
 
