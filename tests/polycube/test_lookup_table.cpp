@@ -8,6 +8,8 @@
 
 #include <cellrelief/polycube/lookup_table.h>
 
+#include "random_polycubes.h"
+
 namespace cellrelief::polycube {
 namespace {
 
@@ -27,17 +29,7 @@ std::vector<Polycube> testPolycubes() {
   out.emplace_back(box);
   out.emplace_back(ring);
   out.emplace_back(twoRings);
-  std::mt19937 random(11);
-  std::uniform_int_distribution<int> coordinate(-3, 3);
-  for (int trial = 0; trial < 20; ++trial) {
-    std::vector<Vec3i> cubes;
-    for (int i = 0; i < 60; ++i) cubes.push_back({coordinate(random), coordinate(random), coordinate(random)});
-    Polycube p = keepLargestAndFill(Polycube(cubes));
-    makeManifold(p);
-    p = keepLargestAndFill(p);
-    makeManifold(p);
-    out.push_back(std::move(p));
-  }
+  for (Polycube& p : test::randomManifoldPolycubes(20)) out.push_back(std::move(p));
   return out;
 }
 

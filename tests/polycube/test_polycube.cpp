@@ -6,6 +6,7 @@
 #include <cellrelief/polycube/polycube.h>
 #include <cellrelief/polycube/polycube_file.h>
 
+#include "random_polycubes.h"
 #include "test_support.h"
 
 namespace cellrelief::polycube {
@@ -114,6 +115,28 @@ TEST(Polycube, RandomCubeSetsBecomeManifoldAndOneClosedShell) {
     EXPECT_TRUE(t.closed() && t.manifold() && t.oriented()) << "trial " << trial;
     EXPECT_EQ(t.genus, s.genus());
   }
+}
+
+TEST(Polycube, SaddleVerticesAreRemovedKeepingGenusAndManifoldness) {
+  std::size_t before = 0, after = 0;
+  int trial = 0;
+  for (Polycube& p : test::randomManifoldPolycubes(20)) {
+    ++trial;
+    const SurfaceStats start = p.surfaceStats();
+    const std::size_t saddles = saddleVertices(p).size();
+    removeSaddles(p, [](const Vec3i&) { return 0.5; });
+    const SurfaceStats end = p.surfaceStats();
+    EXPECT_TRUE(p.nonManifoldVertices().empty()) << "trial " << trial;
+    EXPECT_EQ(end.components, 1u) << "trial " << trial;
+    EXPECT_EQ(end.genus(), start.genus()) << "trial " << trial;
+    EXPECT_EQ(end.perCase[static_cast<int>(VertexCase::k6a)] + end.perCase[static_cast<int>(VertexCase::k6b)],
+              saddleVertices(p).size());
+    before += saddles;
+    after += saddleVertices(p).size();
+  }
+  EXPECT_GT(before, 0u);  // the random sets do have saddles
+  EXPECT_EQ(after, 0u);
+  std::printf("saddle vertices in 20 random polycubes: %zu before, %zu after\n", before, after);
 }
 
 TEST(Polycube, CavitiesAreFilledAndOnlyTheLargestPieceKept) {

@@ -43,11 +43,14 @@ TEST_P(PolycubeOfRealMesh, IsAClosedManifoldShellOfTheMeshGenusNearTheMesh) {
     EXPECT_LE(std::sqrt(cubeBvh.bvh.closestPoint(Vec3d(mesh.positions[i])).first), reach);
   // Few cubes per feature: the coarsest size that keeps the genus.
   EXPECT_EQ(result.trials.back().cubesPerSide, result.cubesPerSide);
-  std::printf("%s: N = %d, %zu cubes (%zu added for manifoldness), %zu faces, cases 3/4a/4b/5/6a/6b = "
-              "%zu/%zu/%zu/%zu/%zu/%zu, %.2f s\n",
+  // The saddle cases, whose projection is not designed yet, are removed.
+  EXPECT_EQ(s.perCase[static_cast<int>(VertexCase::k6a)] + s.perCase[static_cast<int>(VertexCase::k6b)], 0u);
+  EXPECT_EQ(result.trials.back().saddlesLeft, 0u);
+  std::printf("%s: N = %d, %zu cubes (%zu added for manifoldness, %zu toggled to remove saddles), %zu faces, "
+              "cases 3/4a/4b/5/6a/6b = %zu/%zu/%zu/%zu/%zu/%zu, %.2f s\n",
               GetParam().path.c_str(), result.cubesPerSide, p.size(), result.trials.back().addedForManifold,
-              s.faces, s.perCase[0], s.perCase[1], s.perCase[2], s.perCase[3], s.perCase[4], s.perCase[5],
-              result.seconds);
+              result.trials.back().saddlesToggled, s.faces, s.perCase[0], s.perCase[1], s.perCase[2], s.perCase[3],
+              s.perCase[4], s.perCase[5], result.seconds);
 }
 
 INSTANTIATE_TEST_SUITE_P(

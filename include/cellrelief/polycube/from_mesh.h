@@ -9,7 +9,9 @@
 /// 2. keep the largest 6-connected piece and fill its cavities (one closed shell);
 /// 3. make it manifold: at each lattice vertex where cubes meet only along an edge or at a corner,
 ///    add the fewest cubes, preferring cells the surface passes through (makeManifold);
-/// 4. accept it when its genus is the mesh's.
+/// 4. remove the saddle vertices of cases 6a and 6b where toggling one cube can (removeSaddles:
+///    their projection is not designed yet), keeping the surface manifold and its genus;
+/// 5. accept it when its genus is the mesh's.
 /// With N = 0 (automatic) the coarsest N of `autoSizes` that passes is taken: few cubes per large
 /// feature, as the paper's polycubes have. Where no size passes, an Error says why (the genera
 /// each size gave), and nothing is returned.
@@ -48,6 +50,7 @@ inline std::optional<int> cappedGenus(const MeshTopology& topology) {
 struct PolycubeTrial {
   int cubesPerSide = 0;
   std::size_t cubes = 0, addedForManifold = 0;
+  std::size_t saddlesToggled = 0, saddlesLeft = 0;  ///< cubes toggled to remove 6a and 6b vertices, and those left
   std::optional<int> genus;
 };
 
@@ -64,7 +67,7 @@ namespace detail {
 
 /// Steps 1-3 at one lattice size.
 inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec3d> positions, int n,
-                                   PolycubeFrame& frame, std::size_t& added) {
+                                   PolycubeFrame& frame, PolycubeTrial& trial) {
   const cells::CellComplex complex =
       cells::CellComplex::build(mesh, {.gridSize = n, .offProjectionPlanes = false});
   frame = {complex.boundsWS().min, complex.cellSizeWS()};
@@ -82,14 +85,20 @@ inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec
   }
   for (std::size_t g = 0; g < grey.size(); ++g)
     if (inside[g]) cubes.push_back(grey[g].ijk);
-  Polycube polycube = keepLargestAndFill(Polycube(std::move(cubes)));
-  added = makeManifold(polycube, [&](const Vec3i& c) {
+  // Cells the surface passes through, or inside: where cubes are best added.
+  auto onOrInside = [&](const Vec3i& c) {
     const bool inGrid = glm::all(glm::greaterThanEqual(c, Vec3i(0))) && glm::all(glm::lessThan(c, Vec3i(n)));
     return inGrid && complex.color(c) != cells::CellColor::White ? 1.0 : 0.0;
-  });
+  };
+  Polycube polycube = keepLargestAndFill(Polycube(std::move(cubes)));
+  trial.addedForManifold = makeManifold(polycube, onOrInside);
   // Filling may have closed a cavity's mouth: fill again, then check once more.
   polycube = keepLargestAndFill(polycube);
-  added += makeManifold(polycube);
+  trial.addedForManifold += makeManifold(polycube);
+  if (polycube.nonManifoldVertices().empty() && polycube.surfaceStats().genus()) {
+    trial.saddlesToggled = removeSaddles(polycube, onOrInside);
+    trial.saddlesLeft = saddleVertices(polycube).size();
+  }
   return polycube;
 }
 
@@ -108,10 +117,13 @@ inline PolycubeResult polycubeOfMesh(const TriangleMesh& mesh, const PolycubeOpt
       throw Error(ErrorKind::InvalidArgument, "polycube: cubes per side " + std::to_string(n) + " is out of range 2..256");
   for (int n : sizes) {
     PolycubeFrame frame;
-    std::size_t added = 0;
-    Polycube polycube = detail::manifoldPolycubeAt(mesh, positions, n, frame, added);
+    PolycubeTrial trial;
+    trial.cubesPerSide = n;
+    Polycube polycube = detail::manifoldPolycubeAt(mesh, positions, n, frame, trial);
     const std::optional<int> genus = polycube.surfaceStats().genus();
-    result.trials.push_back({n, polycube.size(), added, genus});
+    trial.cubes = polycube.size();
+    trial.genus = genus;
+    result.trials.push_back(trial);
     if (genus && (!options.matchGenus || !result.meshGenus || genus == result.meshGenus)) {
       result.polycube = std::move(polycube);
       result.frame = frame;

@@ -100,6 +100,18 @@ template <class Preference>
 std::size_t makeManifold(Polycube& polycube, Preference&& prefer, std::size_t maxAdded = 1u << 20);
 std::size_t makeManifold(Polycube& polycube);
 
+/// Vertices of the saddle cases 6a and 6b, sorted.
+std::vector<Vec3i> saddleVertices(const Polycube& polycube);
+
+/// Adds or removes cubes until no vertex is of case 6a or 6b, keeping the surface one manifold
+/// piece of the same genus. At each saddle vertex it toggles the one cube of its block that lowers
+/// the saddles among the vertices it changes the most (ties: the one `prefer` ranks highest for a
+/// cube added, 1 - prefer for one removed); where no single cube helps, the best pair of cubes
+/// within two of the vertex. Saddles neither removes stay. Returns the cubes toggled. Why: their projection is not designed yet
+/// (projection.h), and the paper's own polycubes avoided them.
+template <class Preference>
+std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds = 64);
+
 /// Keeps the largest 6-connected piece and fills every cavity (empty space the outside does not
 /// reach), so that the surface is one closed shell.
 Polycube keepLargestAndFill(const Polycube& polycube);

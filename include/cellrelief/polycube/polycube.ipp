@@ -3,6 +3,8 @@
 /// Bodies of polycube.h.
 #pragma once
 
+#include <optional>
+#include <span>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -202,6 +204,112 @@ std::size_t makeManifold(Polycube& polycube, Preference&& prefer, std::size_t ma
 
 inline std::size_t makeManifold(Polycube& polycube) {
   return makeManifold(polycube, [](const Vec3i&) { return 0.0; });
+}
+
+inline std::vector<Vec3i> saddleVertices(const Polycube& polycube) {
+  std::vector<Vec3i> out;
+  for (const Vec3i& v : polycube.surfaceVertices()) {
+    const VertexConfigurationInfo& info = kVertexConfigurations[polycube.vertexConfiguration(v)];
+    if (info.manifold && (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b)) out.push_back(v);
+  }
+  return out;
+}
+
+namespace detail {
+
+/// Saddles among the corners of the cubes, and whether all those corners are manifold.
+inline std::pair<int, bool> saddlesAround(const Polycube& p, std::span<const Vec3i> cubes) {
+  std::vector<Vec3i> corners;
+  for (const Vec3i& c : cubes)
+    for (int k = 0; k < 8; ++k) corners.push_back(c + Vec3i(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+  std::sort(corners.begin(), corners.end(), lessZyx);
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  int saddles = 0;
+  bool manifold = true;
+  for (const Vec3i& v : corners) {
+    const VertexConfigurationInfo& info = kVertexConfigurations[p.vertexConfiguration(v)];
+    manifold = manifold && info.manifold;
+    saddles += info.surface && info.manifold &&
+               (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b);
+  }
+  return {saddles, manifold};
+}
+
+/// The polycube with these cubes toggled, when that keeps it one manifold piece of the same
+/// genus and lowers the saddles among the vertices it changes; with that count.
+inline std::optional<std::pair<Polycube, int>> toggledIfBetter(const Polycube& polycube, std::span<const Vec3i> toggle,
+                                                               std::optional<int> genus) {
+  const int before = saddlesAround(polycube, toggle).first;
+  std::vector<Vec3i> cubes(polycube.cubes().begin(), polycube.cubes().end());
+  for (const Vec3i& c : toggle)
+    if (polycube.contains(c)) std::erase(cubes, c);
+    else cubes.push_back(c);
+  if (cubes.empty()) return std::nullopt;
+  Polycube candidate(std::move(cubes));
+  const auto [after, manifold] = saddlesAround(candidate, toggle);
+  if (!manifold || after >= before) return std::nullopt;
+  const SurfaceStats stats = candidate.surfaceStats();
+  if (stats.components != 1 || stats.genus() != genus) return std::nullopt;
+  return std::pair<Polycube, int>{std::move(candidate), after};
+}
+
+inline bool isSaddle(const Polycube& p, const Vec3i& v) {
+  const VertexConfigurationInfo& info = kVertexConfigurations[p.vertexConfiguration(v)];
+  return info.surface && info.manifold && (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b);
+}
+
+}  // namespace detail
+
+template <class Preference>
+std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds) {
+  std::size_t toggled = 0;
+  const std::optional<int> genus = polycube.surfaceStats().genus();
+  auto score = [&](std::span<const Vec3i> toggle) {
+    double sum = 0;
+    for (const Vec3i& c : toggle) sum += polycube.contains(c) ? 1.0 - double(prefer(c)) : double(prefer(c));
+    return sum;
+  };
+  // One cube of the vertex's block first; where none helps, two cubes within two of the vertex.
+  for (const int cubesAtOnce : {1, 2})
+    for (int round = 0; round < maxRounds; ++round) {
+      bool progressed = false;
+      for (const Vec3i& v : saddleVertices(polycube)) {
+        if (!detail::isSaddle(polycube, v)) continue;  // a neighbour's change fixed it
+        std::vector<Vec3i> near;
+        const int reach = cubesAtOnce == 1 ? 1 : 2;
+        for (int z = -reach; z < reach; ++z)
+          for (int y = -reach; y < reach; ++y)
+            for (int x = -reach; x < reach; ++x) near.push_back(v + Vec3i(x, y, z));
+        std::optional<std::pair<Polycube, int>> best;
+        double bestScore = 0;
+        auto consider = [&](std::span<const Vec3i> toggle) {
+          auto candidate = detail::toggledIfBetter(polycube, toggle, genus);
+          if (!candidate) return;
+          const double s = score(toggle);
+          if (!best || candidate->second < best->second || (candidate->second == best->second && s > bestScore)) {
+            best = std::move(candidate);
+            bestScore = s;
+          }
+        };
+        for (std::size_t i = 0; i < near.size(); ++i) {
+          if (cubesAtOnce == 1) {
+            consider(std::span<const Vec3i>(&near[i], 1));
+            continue;
+          }
+          for (std::size_t j = i + 1; j < near.size(); ++j) {
+            const Vec3i pair[2] = {near[i], near[j]};
+            consider(pair);
+          }
+        }
+        if (best) {
+          polycube = std::move(best->first);
+          toggled += std::size_t(cubesAtOnce);
+          progressed = true;
+        }
+      }
+      if (!progressed) break;
+    }
+  return toggled;
 }
 
 inline Polycube keepLargestAndFill(const Polycube& polycube) {
