@@ -9,7 +9,7 @@
 
 #include <cellrelief/polycube/polycube.h>
 
-namespace cellrelief::polycube::test {
+namespace cellrelief::polycube::fixtures {
 
 inline std::vector<Polycube> randomManifoldPolycubes(int count, unsigned seed = 11) {
   std::mt19937 random(seed);
@@ -27,4 +27,4 @@ inline std::vector<Polycube> randomManifoldPolycubes(int count, unsigned seed = 
   return out;
 }
 
-}  // namespace cellrelief::polycube::test
+}  // namespace cellrelief::polycube::fixtures

@@ -29,7 +29,7 @@ std::vector<Polycube> testPolycubes() {
   out.emplace_back(box);
   out.emplace_back(ring);
   out.emplace_back(twoRings);
-  for (Polycube& p : test::randomManifoldPolycubes(20)) out.push_back(std::move(p));
+  for (Polycube& p : fixtures::randomManifoldPolycubes(20)) out.push_back(std::move(p));
   return out;
 }
 

@@ -120,7 +120,7 @@ TEST(Polycube, RandomCubeSetsBecomeManifoldAndOneClosedShell) {
 TEST(Polycube, SaddleVerticesAreRemovedKeepingGenusAndManifoldness) {
   std::size_t before = 0, after = 0;
   int trial = 0;
-  for (Polycube& p : test::randomManifoldPolycubes(20)) {
+  for (Polycube& p : fixtures::randomManifoldPolycubes(20)) {
     ++trial;
     const SurfaceStats start = p.surfaceStats();
     const std::size_t saddles = saddleVertices(p).size();
