@@ -80,8 +80,8 @@ int runPolycube(const PolycubeCommandOptions& o) {
     options.cubesPerSide = parseGridSize(o.grid);
     const polycube::PolycubeResult r = withPath(o.mesh, [&] { return polycube::polycubeOfMesh(mesh, options); });
     for (const polycube::PolycubeTrial& t : r.trials)
-      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness, %zu toggled to remove saddles, %zu "
-                  "left), %s\n", t.cubesPerSide, t.cubes, t.addedForManifold, t.saddlesToggled, t.saddlesLeft,
+      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness, %zu toggled to remove case-6b "
+                  "vertices, %zu left), %s\n", t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bToggled, t.case6bLeft,
                   t.genus ? ("genus " + std::to_string(*t.genus)).c_str() : "not a closed manifold");
     std::printf("chosen        N = %d, %.2f s\n", r.cubesPerSide, r.seconds);
     cubes = r.polycube;

@@ -32,8 +32,7 @@ double distanceToSurface(std::uint8_t configuration, const Vec3d& p) {
 }
 
 bool designed(std::uint8_t configuration) {
-  const VertexCase c = kVertexConfigurations[configuration].vertexCase;
-  return c != VertexCase::k6a && c != VertexCase::k6b;
+  return kVertexConfigurations[configuration].vertexCase != VertexCase::k6b;
 }
 
 /// The 2D rule of cell face (axis, side) for a point p of it: orthogonal projection onto a
@@ -142,7 +141,7 @@ TEST(PolycubeProjection, IsContinuousWithinReachOfTheSurface) {
 }
 
 TEST(PolycubeProjection, CasesNotDesignedYetAreRefused) {
-  EXPECT_THROW(project(kCanonicalOctants[static_cast<int>(VertexCase::k6a)], Vec3d(0.1)), Error);
+  EXPECT_THROW(project(kCanonicalOctants[static_cast<int>(VertexCase::k6b)], Vec3d(0.1)), Error);
   EXPECT_THROW(project(0, Vec3d(0.1)), Error);
 }
 

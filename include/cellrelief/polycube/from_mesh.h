@@ -9,8 +9,8 @@
 /// 2. keep the largest 6-connected piece and fill its cavities (one closed shell);
 /// 3. make it manifold: at each lattice vertex where cubes meet only along an edge or at a corner,
 ///    add the fewest cubes, preferring cells the surface passes through (makeManifold);
-/// 4. remove the saddle vertices of cases 6a and 6b where toggling one cube can (removeSaddles:
-///    their projection is not designed yet), keeping the surface manifold and its genus;
+/// 4. remove the vertices of case 6b (removeVerticesOfCase: toggling one cube, or a pair; their
+///    projection is not designed yet), keeping the surface manifold and its genus;
 /// 5. accept it when its genus is the mesh's.
 /// With N = 0 (automatic) the coarsest N of `autoSizes` that passes is taken: few cubes per large
 /// feature, as the paper's polycubes have. Where no size passes, an Error says why (the genera
@@ -50,7 +50,7 @@ inline std::optional<int> cappedGenus(const MeshTopology& topology) {
 struct PolycubeTrial {
   int cubesPerSide = 0;
   std::size_t cubes = 0, addedForManifold = 0;
-  std::size_t saddlesToggled = 0, saddlesLeft = 0;  ///< cubes toggled to remove 6a and 6b vertices, and those left
+  std::size_t case6bToggled = 0, case6bLeft = 0;  ///< cubes toggled to remove 6b vertices, and those left
   std::optional<int> genus;
 };
 
@@ -65,7 +65,7 @@ struct PolycubeResult {
 
 namespace detail {
 
-/// Steps 1-3 at one lattice size.
+/// Steps 1-4 at one lattice size.
 inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec3d> positions, int n,
                                    PolycubeFrame& frame, PolycubeTrial& trial) {
   const cells::CellComplex complex =
@@ -96,8 +96,8 @@ inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec
   polycube = keepLargestAndFill(polycube);
   trial.addedForManifold += makeManifold(polycube);
   if (polycube.nonManifoldVertices().empty() && polycube.surfaceStats().genus()) {
-    trial.saddlesToggled = removeSaddles(polycube, onOrInside);
-    trial.saddlesLeft = saddleVertices(polycube).size();
+    trial.case6bToggled = removeVerticesOfCase(polycube, VertexCase::k6b, onOrInside);
+    trial.case6bLeft = verticesOfCase(polycube, VertexCase::k6b).size();
   }
   return polycube;
 }

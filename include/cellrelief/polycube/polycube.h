@@ -100,17 +100,18 @@ template <class Preference>
 std::size_t makeManifold(Polycube& polycube, Preference&& prefer, std::size_t maxAdded = 1u << 20);
 std::size_t makeManifold(Polycube& polycube);
 
-/// Vertices of the saddle cases 6a and 6b, sorted.
-std::vector<Vec3i> saddleVertices(const Polycube& polycube);
+/// The vertices of one case, sorted.
+std::vector<Vec3i> verticesOfCase(const Polycube& polycube, VertexCase vertexCase);
 
-/// Adds or removes cubes until no vertex is of case 6a or 6b, keeping the surface one manifold
-/// piece of the same genus. At each saddle vertex it toggles the one cube of its block that lowers
-/// the saddles among the vertices it changes the most (ties: the one `prefer` ranks highest for a
+/// Adds or removes cubes until no vertex is of the given case, keeping the surface one manifold
+/// piece of the same genus. At each such vertex it toggles the one cube of its block that lowers
+/// the count among the vertices it changes the most (ties: the one `prefer` ranks highest for a
 /// cube added, 1 - prefer for one removed); where no single cube helps, the best pair of cubes
-/// within two of the vertex. Saddles neither removes stay. Returns the cubes toggled. Why: their projection is not designed yet
-/// (projection.h), and the paper's own polycubes avoided them.
+/// within two of the vertex. Vertices neither removes stay. Returns the cubes toggled. Used for
+/// case 6b, whose projection is not designed yet (projection.h); the paper's own polycubes
+/// avoided 6a and 6b.
 template <class Preference>
-std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds = 64);
+std::size_t removeVerticesOfCase(Polycube& polycube, VertexCase vertexCase, Preference&& prefer, int maxRounds = 64);
 
 /// Keeps the largest 6-connected piece and fills every cavity (empty space the outside does not
 /// reach), so that the surface is one closed shell.

@@ -206,62 +206,61 @@ inline std::size_t makeManifold(Polycube& polycube) {
   return makeManifold(polycube, [](const Vec3i&) { return 0.0; });
 }
 
-inline std::vector<Vec3i> saddleVertices(const Polycube& polycube) {
+inline std::vector<Vec3i> verticesOfCase(const Polycube& polycube, VertexCase vertexCase) {
   std::vector<Vec3i> out;
   for (const Vec3i& v : polycube.surfaceVertices()) {
     const VertexConfigurationInfo& info = kVertexConfigurations[polycube.vertexConfiguration(v)];
-    if (info.manifold && (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b)) out.push_back(v);
+    if (info.manifold && info.vertexCase == vertexCase) out.push_back(v);
   }
   return out;
 }
 
 namespace detail {
 
-/// Saddles among the corners of the cubes, and whether all those corners are manifold.
-inline std::pair<int, bool> saddlesAround(const Polycube& p, std::span<const Vec3i> cubes) {
+inline bool isOfCase(const Polycube& p, const Vec3i& v, VertexCase vertexCase) {
+  const VertexConfigurationInfo& info = kVertexConfigurations[p.vertexConfiguration(v)];
+  return info.surface && info.manifold && info.vertexCase == vertexCase;
+}
+
+/// Vertices of the case among the corners of the cubes, and whether all those corners are
+/// manifold.
+inline std::pair<int, bool> caseCountAround(const Polycube& p, std::span<const Vec3i> cubes, VertexCase vertexCase) {
   std::vector<Vec3i> corners;
   for (const Vec3i& c : cubes)
     for (int k = 0; k < 8; ++k) corners.push_back(c + Vec3i(k & 1, (k >> 1) & 1, (k >> 2) & 1));
   std::sort(corners.begin(), corners.end(), lessZyx);
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-  int saddles = 0;
+  int count = 0;
   bool manifold = true;
   for (const Vec3i& v : corners) {
-    const VertexConfigurationInfo& info = kVertexConfigurations[p.vertexConfiguration(v)];
-    manifold = manifold && info.manifold;
-    saddles += info.surface && info.manifold &&
-               (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b);
+    manifold = manifold && kVertexConfigurations[p.vertexConfiguration(v)].manifold;
+    count += isOfCase(p, v, vertexCase);
   }
-  return {saddles, manifold};
+  return {count, manifold};
 }
 
 /// The polycube with these cubes toggled, when that keeps it one manifold piece of the same
-/// genus and lowers the saddles among the vertices it changes; with that count.
+/// genus and lowers the case's vertices among those it changes; with that count.
 inline std::optional<std::pair<Polycube, int>> toggledIfBetter(const Polycube& polycube, std::span<const Vec3i> toggle,
-                                                               std::optional<int> genus) {
-  const int before = saddlesAround(polycube, toggle).first;
+                                                               VertexCase vertexCase, std::optional<int> genus) {
+  const int before = caseCountAround(polycube, toggle, vertexCase).first;
   std::vector<Vec3i> cubes(polycube.cubes().begin(), polycube.cubes().end());
   for (const Vec3i& c : toggle)
     if (polycube.contains(c)) std::erase(cubes, c);
     else cubes.push_back(c);
   if (cubes.empty()) return std::nullopt;
   Polycube candidate(std::move(cubes));
-  const auto [after, manifold] = saddlesAround(candidate, toggle);
+  const auto [after, manifold] = caseCountAround(candidate, toggle, vertexCase);
   if (!manifold || after >= before) return std::nullopt;
   const SurfaceStats stats = candidate.surfaceStats();
   if (stats.components != 1 || stats.genus() != genus) return std::nullopt;
   return std::pair<Polycube, int>{std::move(candidate), after};
 }
 
-inline bool isSaddle(const Polycube& p, const Vec3i& v) {
-  const VertexConfigurationInfo& info = kVertexConfigurations[p.vertexConfiguration(v)];
-  return info.surface && info.manifold && (info.vertexCase == VertexCase::k6a || info.vertexCase == VertexCase::k6b);
-}
-
 }  // namespace detail
 
 template <class Preference>
-std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds) {
+std::size_t removeVerticesOfCase(Polycube& polycube, VertexCase vertexCase, Preference&& prefer, int maxRounds) {
   std::size_t toggled = 0;
   const std::optional<int> genus = polycube.surfaceStats().genus();
   auto score = [&](std::span<const Vec3i> toggle) {
@@ -273,8 +272,8 @@ std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds
   for (const int cubesAtOnce : {1, 2})
     for (int round = 0; round < maxRounds; ++round) {
       bool progressed = false;
-      for (const Vec3i& v : saddleVertices(polycube)) {
-        if (!detail::isSaddle(polycube, v)) continue;  // a neighbour's change fixed it
+      for (const Vec3i& v : verticesOfCase(polycube, vertexCase)) {
+        if (!detail::isOfCase(polycube, v, vertexCase)) continue;  // a neighbour's change fixed it
         std::vector<Vec3i> near;
         const int reach = cubesAtOnce == 1 ? 1 : 2;
         for (int z = -reach; z < reach; ++z)
@@ -283,7 +282,7 @@ std::size_t removeSaddles(Polycube& polycube, Preference&& prefer, int maxRounds
         std::optional<std::pair<Polycube, int>> best;
         double bestScore = 0;
         auto consider = [&](std::span<const Vec3i> toggle) {
-          auto candidate = detail::toggledIfBetter(polycube, toggle, genus);
+          auto candidate = detail::toggledIfBetter(polycube, toggle, vertexCase, genus);
           if (!candidate) return;
           const double s = score(toggle);
           if (!best || candidate->second < best->second || (candidate->second == best->second && s > bestScore)) {

@@ -34,7 +34,16 @@
 ///   central projection in (2r - 1, z) from (1, -1/2). It reduces to the corner rule on the faces
 ///   x = 1/2, y = 1/2 (half-planes themselves) and z = -1/2, and to orthogonal projection on the
 ///   faces x = -1/2, y = -1/2 (the half-planes' far edges).
-/// - 6a and 6b: not yet (project() throws Unsupported).
+/// - 6a (a tetrapod of cubes: octant 0 and its three neighbours 1, 2, 4), designed here, the
+///   paper leaves it out. Each arm cube (say octant 1, along +x) gets a fan like P5's about its
+///   far edge (y = z = -1/2, a cell edge the surface does not cross): in every half-plane from
+///   that edge the surface is a concave corner (the arm's wall, then the plane x = 0), and P is
+///   its central projection from where the half-plane meets the cell face x = 1/2. The core cube
+///   (octant 0) takes the fan of its largest coordinate's arm (the fans agree where two are
+///   largest: both reach the axis between them). The other four octants are the image of these
+///   under p -> -p, which maps 6a's solid onto its empty part: P(p) = -P(-p) there. Tested like
+///   the others: faces' own rules, onto the surface, identity on it, the same Lipschitz bound.
+/// - 6b: not yet (project() throws Unsupported).
 #pragma once
 
 #include <algorithm>
@@ -83,6 +92,38 @@ inline Vec3d projectCase5(const Vec3d& p) {
   return {0.5 + w.x * (rImage / r), 0.5 + w.y * (rImage / r), zImage};
 }
 
+/// Case 6a's fan for the arm along `axis`: in the half-plane from the arm's far edge (the other
+/// coordinates at -1/2), with s = 2 max(p_b, p_c) + 1 - 1 from that edge (0 at the arm's walls)
+/// and h = p_axis, the central projection from (1, 1/2) onto the concave corner
+/// {s = 0, h >= 0} u {h = 0, s >= 0}.
+inline Vec3d projectArmFan(int axis, const Vec3d& p) {
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  const double r = std::max(p[b] + 0.5, p[c] + 0.5);
+  const double sigma = 2 * r - 1, h = p[axis];
+  if (r <= 0 || sigma >= 1) return p;  // on the edge or the far corner line: half a cube away
+  const double tWall = 1 / (1 - sigma);  // the ray from (1, 1/2) reaches s = 0
+  const double hWall = 0.5 + tWall * (h - 0.5);
+  double sigmaImage = 0, hImage = hWall;
+  if (hWall < 0) {  // it reaches h = 0 first
+    sigmaImage = 1 + (0.5 / (0.5 - h)) * (sigma - 1);
+    hImage = 0;
+  }
+  const double scale = 0.5 * (sigmaImage + 1) / r;
+  Vec3d q;
+  q[axis] = hImage;
+  q[b] = -0.5 + (p[b] + 0.5) * scale;
+  q[c] = -0.5 + (p[c] + 0.5) * scale;
+  return q;
+}
+
+/// Case 6a in its canonical frame (solid octants 0, 1, 2, 4).
+inline Vec3d projectCase6a(const Vec3d& p) {
+  const auto largest = [](const Vec3d& v) { return v.x >= v.y && v.x >= v.z ? 0 : v.y >= v.z ? 1 : 2; };
+  const int positive = (p.x > 0) + (p.y > 0) + (p.z > 0);
+  if (positive <= 1) return projectArmFan(largest(p), p);
+  return -projectArmFan(largest(-p), -p);
+}
+
 }  // namespace detail
 
 /// P of one case, in the case's canonical frame.
@@ -93,6 +134,7 @@ inline Vec3d projectCanonical(VertexCase c, const Vec3d& p) {
     case VertexCase::k4a: return detail::projectFromBoxCorner(p, kActive[1]);
     case VertexCase::k4b: return detail::projectFromBoxCorner(p, kActive[2]);
     case VertexCase::k5: return detail::projectCase5(p);
+    case VertexCase::k6a: return detail::projectCase6a(p);
     default:
       throw Error(ErrorKind::Unsupported, "polycube projection: case " + std::string(toString(c)) + " is not designed yet");
   }

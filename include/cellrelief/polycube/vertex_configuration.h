@@ -27,8 +27,8 @@
 ///
 /// Case 6b is chiral: a rotation cannot turn the skew path 0-1-3-7 into its mirror image 0-2-3-7,
 /// so half of its surfaces need a reflection. The paper's 5 bits hold the 24 rotations; a sixth
-/// bit here holds the reflection (transform indices 24-47), which cases 6a and 6b, left out of the
-/// paper's shader, need.
+/// bit here holds the reflection (transform indices 24-47), which only case 6b needs (the
+/// paper's shader left 6a and 6b out).
 #pragma once
 
 #include <array>
