@@ -347,6 +347,7 @@ int main(int argc, char** argv) {
       std::size_t bytes, disagreements;
     };
     std::vector<LevelSetRun> runs;
+    const std::vector<MemoryPoint> leastMemory = memoryFront(memoryPoints);
     for (int k = 6; k <= (quick ? 8 : 11); ++k) {
       const double voxel = diagonal / double(1 << k);
       LevelSetTracer ls(bench::levelSet(mesh, voxel));
@@ -371,7 +372,6 @@ int main(int argc, char** argv) {
                     double(runs.back().bytes) / allBytes[match]);
       else
         std::printf("    at this error: none of our points is as accurate\n");
-      const std::vector<MemoryPoint> leastMemory = memoryFront(memoryPoints);
       const double setting = bytesOfSetting(leastMemory, a.medianError / diagonal);
       const double curve = bytesOnCurve(leastMemory, a.medianError / diagonal);
       if (std::isfinite(setting))
@@ -390,7 +390,7 @@ int main(int argc, char** argv) {
       app::PlotSeries curve{name + " least memory", {}, {}, points.color, true};
       app::PlotSeries levelSets{name + " OpenVDB level sets", {}, {}, app::Plot::palette(c + 1), true};
       for (const MemoryPoint& p : memoryPoints) points.x.push_back(p.error), points.y.push_back(p.bytes);
-      for (const MemoryPoint& p : memoryFront(memoryPoints)) curve.x.push_back(p.error), curve.y.push_back(p.bytes);
+      for (const MemoryPoint& p : leastMemory) curve.x.push_back(p.error), curve.y.push_back(p.bytes);
       for (const auto& r : runs) levelSets.x.push_back(r.median / diagonal), levelSets.y.push_back(double(r.bytes));
       memoryPlot.series.push_back(std::move(points));
       memoryPlot.series.push_back(std::move(curve));

@@ -29,12 +29,13 @@ constexpr Color8 kVertexCaseColours[polycube::kVertexCaseCount] = {
 
 /// The surface with each lattice vertex coloured by its case.
 TriangleMesh surfaceByCase(const polycube::Polycube& p, const polycube::PolycubeFrame& frame) {
-  TriangleMesh mesh = p.surfaceMesh(frame);
+  // Built in lattice units, where its positions are the vertices' exact integer coordinates.
+  TriangleMesh mesh = p.surfaceMesh();
   mesh.colors.resize(mesh.positions.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-    const Vec3i lattice(glm::round((Vec3d(mesh.positions[v]) - frame.origin) / frame.cubeSize));
-    const auto& info = polycube::kVertexConfigurations[p.vertexConfiguration(lattice)];
+    const auto& info = polycube::kVertexConfigurations[p.vertexConfiguration(Vec3i(mesh.positions[v]))];
     mesh.colors[v] = kVertexCaseColours[static_cast<int>(info.vertexCase)];
+    mesh.positions[v] = Vec3f(frame.origin + frame.cubeSize * Vec3d(mesh.positions[v]));
   }
   mesh.sourcePolygons = mesh.triangles.size();
   return mesh;

@@ -87,6 +87,11 @@ class Polycube {
   }
 
  private:
+  /// Calls visit(corner, axis, positive) for every face between a cube and empty space: the
+  /// face lies in the plane normal to `axis` through its lowest corner, and faces +axis when
+  /// `positive`.
+  template <class Visit>
+  void forEachSurfaceFace(Visit&& visit) const;
 
   std::vector<Vec3i> mCubes;  ///< sorted by (z, y, x)
   std::unordered_set<std::uint64_t> mSet;

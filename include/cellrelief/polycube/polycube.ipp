@@ -73,23 +73,29 @@ inline std::vector<Vec3i> Polycube::nonManifoldVertices() const {
   return out;
 }
 
+template <class Visit>
+void Polycube::forEachSurfaceFace(Visit&& visit) const {
+  for (const Vec3i& c : mCubes)
+    for (int face = 0; face < 6; ++face) {
+      if (contains(c + detail::faceStep(face))) continue;
+      const int axis = face >> 1;
+      const bool positive = (face & 1) != 0;
+      visit(positive ? c + detail::kAxisStep[axis] : c, axis, positive);
+    }
+}
+
 inline SurfaceStats Polycube::surfaceStats() const {
   SurfaceStats stats;
   // Faces, and the lattice edges they hold (an edge: its lower vertex and its axis).
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> facesOfEdge;
   std::uint32_t faceCount = 0;
-  for (const Vec3i& c : mCubes)
-    for (int face = 0; face < 6; ++face) {
-      const int axis = face >> 1;
-      if (contains(c + detail::faceStep(face))) continue;
-      const Vec3i base = (face & 1) ? c + detail::kAxisStep[axis] : c;
-      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-      const Vec3i corners[4] = {base, base + detail::kAxisStep[a], base + detail::kAxisStep[b],
-                                base + detail::kAxisStep[a] + detail::kAxisStep[b]};
-      const std::pair<Vec3i, int> edges[4] = {{corners[0], a}, {corners[0], b}, {corners[1], b}, {corners[2], a}};
-      for (const auto& [v, edgeAxis] : edges) facesOfEdge[key(v) * 3 + std::uint64_t(edgeAxis)].push_back(faceCount);
-      ++faceCount;
-    }
+  forEachSurfaceFace([&](const Vec3i& base, int axis, bool) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    const Vec3i corners[3] = {base, base + detail::kAxisStep[a], base + detail::kAxisStep[b]};
+    const std::pair<Vec3i, int> edges[4] = {{corners[0], a}, {corners[0], b}, {corners[1], b}, {corners[2], a}};
+    for (const auto& [v, edgeAxis] : edges) facesOfEdge[key(v) * 3 + std::uint64_t(edgeAxis)].push_back(faceCount);
+    ++faceCount;
+  });
   stats.faces = faceCount;
   stats.edges = facesOfEdge.size();
   UnionFind pieces(faceCount);
@@ -115,24 +121,18 @@ inline TriangleMesh Polycube::surfaceMesh(const PolycubeFrame& frame) const {
     if (inserted) mesh.positions.push_back(Vec3f(frame.origin + frame.cubeSize * Vec3d(v)));
     return it->second;
   };
-  for (const Vec3i& c : mCubes)
-    for (int face = 0; face < 6; ++face) {
-      const int axis = face >> 1;
-      const bool positive = (face & 1) != 0;
-      if (contains(c + detail::faceStep(face))) continue;
-      const Vec3i base = positive ? c + detail::kAxisStep[axis] : c;
-      const Vec3i ea = detail::kAxisStep[(axis + 1) % 3], eb = detail::kAxisStep[(axis + 2) % 3];
-      // (ea, eb) turns about +axis, so p0 p1 p2 faces +axis.
-      const std::uint32_t p0 = vertex(base), p1 = vertex(base + ea), p2 = vertex(base + ea + eb),
-                          p3 = vertex(base + eb);
-      if (positive) {
-        mesh.triangles.push_back({p0, p1, p2});
-        mesh.triangles.push_back({p0, p2, p3});
-      } else {
-        mesh.triangles.push_back({p0, p2, p1});
-        mesh.triangles.push_back({p0, p3, p2});
-      }
+  forEachSurfaceFace([&](const Vec3i& base, int axis, bool positive) {
+    const Vec3i ea = detail::kAxisStep[(axis + 1) % 3], eb = detail::kAxisStep[(axis + 2) % 3];
+    // (ea, eb) turns about +axis, so p0 p1 p2 faces +axis.
+    const std::uint32_t p0 = vertex(base), p1 = vertex(base + ea), p2 = vertex(base + ea + eb), p3 = vertex(base + eb);
+    if (positive) {
+      mesh.triangles.push_back({p0, p1, p2});
+      mesh.triangles.push_back({p0, p2, p3});
+    } else {
+      mesh.triangles.push_back({p0, p2, p1});
+      mesh.triangles.push_back({p0, p3, p2});
     }
+  });
   return mesh;
 }
 

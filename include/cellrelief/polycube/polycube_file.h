@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cellrelief/io/atomic_file.h"
+#include "cellrelief/io/detail/format_checks.h"
 #include "cellrelief/polycube/polycube.h"
 
 namespace cellrelief::polycube {
@@ -50,8 +51,8 @@ inline std::vector<std::string_view> fields(std::string_view line) {
   return out;
 }
 
-template <class T>
-bool parseNumber(std::string_view text, T& value) {
+/// A whole token as an int (cube coordinates may be negative).
+inline bool parseInt(std::string_view text, int& value) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   return ec == std::errc() && end == text.data() + text.size();
 }
@@ -78,18 +79,17 @@ inline PolycubeFile readPolycube(const std::filesystem::path& path) {
     if (f[0] == "frame") {
       if (file.hasFrame) fail("a second frame line");
       double v[4];
-      if (f.size() != 5 || !detail::parseNumber(f[1], v[0]) || !detail::parseNumber(f[2], v[1]) ||
-          !detail::parseNumber(f[3], v[2]) || !detail::parseNumber(f[4], v[3]))
-        fail("expected 'frame x y z size' with four numbers");
-      if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) || !std::isfinite(v[3]) || !(v[3] > 0))
-        fail("the frame's origin must be finite and its cube size positive and finite");
+      if (f.size() != 5 || !io::detail::parseFinite(f[1], v[0]) || !io::detail::parseFinite(f[2], v[1]) ||
+          !io::detail::parseFinite(f[3], v[2]) || !io::detail::parseFinite(f[4], v[3]))
+        fail("expected 'frame x y z size' with four finite numbers");
+      if (!(v[3] > 0)) fail("the frame's cube size must be positive");
       file.frame = {Vec3d(v[0], v[1], v[2]), v[3]};
       file.hasFrame = true;
       continue;
     }
     Vec3i c;
-    if (f.size() != 3 || !detail::parseNumber(f[0], c.x) || !detail::parseNumber(f[1], c.y) ||
-        !detail::parseNumber(f[2], c.z))
+    if (f.size() != 3 || !detail::parseInt(f[0], c.x) || !detail::parseInt(f[1], c.y) ||
+        !detail::parseInt(f[2], c.z))
       fail("expected three integers 'x y z', got '" + line.substr(0, 80) + "'");
     for (int a = 0; a < 3; ++a)
       if (std::abs(c[a]) > Polycube::kMaxCoordinate - 2)

@@ -140,17 +140,6 @@ inline Vec3d projectCanonical(VertexCase c, const Vec3d& p) {
   }
 }
 
-/// The inverse of applyTransform (a signed permutation: its transpose, then the reflection).
-inline Vec3d applyInverseTransform(int transform, const Vec3d& d) {
-  Vec3d r = cells::kRotations[transform % 24].inverse().apply(d);
-  if (transform >= 24) r.x = -r.x;
-  return r;
-}
-inline Vec3d applyTransform(int transform, Vec3d d) {
-  if (transform >= 24) d.x = -d.x;
-  return cells::kRotations[transform % 24].apply(d);
-}
-
 /// P for a vertex of this configuration: `d` and the result relative to the vertex, in cubes.
 inline Vec3d project(std::uint8_t configuration, const Vec3d& d) {
   const VertexConfigurationInfo& info = kVertexConfigurations[configuration];

@@ -65,10 +65,22 @@ constexpr int octantOf(const Vec3i& direction) {
 }
 
 /// A symmetry of the cube: transform s < 24 is cells::kRotations[s]; s >= 24 is kRotations[s - 24]
-/// after the reflection x -> -x. It maps a direction d to the transformed direction.
-constexpr Vec3i applyTransform(int transform, Vec3i d) {
+/// after the reflection x -> -x. It maps a direction (or a point relative to the vertex) d to the
+/// transformed one.
+template <class V>
+constexpr V applyTransformTo(int transform, V d) {
   if (transform >= 24) d.x = -d.x;
   return cells::kRotations[transform % 24].apply(d);
+}
+constexpr Vec3i applyTransform(int transform, const Vec3i& d) { return applyTransformTo(transform, d); }
+template <Real T>
+Vec3<T> applyTransform(int transform, const Vec3<T>& d) { return applyTransformTo(transform, d); }
+/// The inverse (a signed permutation: its transpose, then the reflection).
+template <Real T>
+Vec3<T> applyInverseTransform(int transform, const Vec3<T>& d) {
+  Vec3<T> r = cells::kRotations[transform % 24].inverse().apply(d);
+  if (transform >= 24) r.x = -r.x;
+  return r;
 }
 inline constexpr int kTransformCount = 48;
 
