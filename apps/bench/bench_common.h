@@ -14,11 +14,11 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <cellrelief/core/triangle_mesh.h>
+#include <cellrelief/io/openmesh_triangles.h>
 
 namespace cellrelief::bench {
 
@@ -53,30 +53,12 @@ inline double medianSeconds(int repeats, const std::function<void()>& work) {
 /// One Loop subdivision step (4x the triangles), through OpenMesh's subdivider. The input must be
 /// a manifold mesh OpenMesh can hold.
 inline TriangleMesh loopSubdivide(const TriangleMesh& mesh) {
-  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-  OMesh om;
-  std::vector<OMesh::VertexHandle> v;
-  v.reserve(mesh.positions.size());
-  for (const Vec3f& p : mesh.positions) v.push_back(om.add_vertex(OMesh::Point(p.x, p.y, p.z)));
-  for (const Vec3u& t : mesh.triangles) om.add_face(v[t[0]], v[t[1]], v[t[2]]);
-  OpenMesh::Subdivider::Uniform::LoopT<OMesh> loop;
+  io::OpenMeshTriangles om = io::toOpenMesh(mesh);
+  OpenMesh::Subdivider::Uniform::LoopT<io::OpenMeshTriangles> loop;
   loop.attach(om);
   loop(1);
   loop.detach();
-  TriangleMesh out;
-  out.positions.reserve(om.n_vertices());
-  for (const auto vh : om.vertices()) {
-    const OMesh::Point& p = om.point(vh);
-    out.positions.emplace_back(p[0], p[1], p[2]);
-  }
-  for (const auto fh : om.faces()) {
-    Vec3u t;
-    int k = 0;
-    for (const auto vh : om.fv_range(fh)) t[k++] = std::uint32_t(vh.idx());
-    out.triangles.push_back(t);
-  }
-  out.sourcePolygons = out.triangles.size();
-  return out;
+  return io::fromOpenMesh(om);
 }
 
 /// OpenVDB's narrow-band level set of the mesh at the given voxel size (half width 3 voxels).

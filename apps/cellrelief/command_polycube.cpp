@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: MIT
 /// @file command_polycube.cpp
-/// `cellrelief polycube <mesh> -o <dir> [--grid N|auto] [--cubes FILE]`: the polycube texture
-/// domain of a mesh (PolyCube-Maps), built automatically or read from a cube file, checked (closed
-/// 2-manifold, one piece, the mesh's genus) and written as the cube file, its surface coloured by
-/// vertex case (PLY) and a picture of that. Nothing is written unless every check passes.
+/// `cellrelief polycube <mesh> -o <dir> [--grid N|auto] [--cubes FILE] [--energy E]`: the polycube
+/// texture domain of a mesh (PolyCube-Maps), built automatically or read from a cube file, checked
+/// (closed 2-manifold, one piece, the mesh's genus), the mesh's map onto it (3D texture positions,
+/// without flipped triangles) and its distortion, written as the cube file, its surface coloured
+/// by vertex case (PLY) and a picture of that, the mesh with its texture positions (OBJ) and the
+/// distortion table (CSV). Nothing is written unless every check passes.
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/from_mesh.h>
+#include <cellrelief/polycube/parameterization.h>
 #include <cellrelief/polycube/polycube_file.h>
 
 #include "commands.h"
@@ -19,7 +23,8 @@ namespace cellrelief::app {
 namespace {
 
 struct PolycubeCommandOptions {
-  std::string mesh, output, grid = "auto", cubes;
+  std::string mesh, output, grid = "auto", cubes, energy = "extended-mips";
+  int sweeps = 400;
 };
 
 /// One colour per vertex case, as in the paper's Fig. 11 (cases 3 to 6b).
@@ -50,6 +55,27 @@ polycube::PolycubeFrame fitFrame(const polycube::Polycube& p, const TriangleMesh
   const double size = std::max({meshExtent.x, meshExtent.y, meshExtent.z}) /
                       std::max({cubeExtent.x, cubeExtent.y, cubeExtent.z});
   return {bounds.center() - size * 0.5 * (lo + hi), size};
+}
+
+/// The paper's Table 1 columns for this map, before and after optimization.
+void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& mesh, const polycube::Polycube& cubes,
+                          const polycube::PolycubeParameterization& map, const std::filesystem::path& path) {
+  io::AtomicFile atomic(path);
+  {
+    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
+    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+    out << "mesh,triangles,cubes,energy,stage,area_distortion,angle_distortion,stretch_efficiency,flipped,sweeps,"
+           "seconds\n";
+    const std::string name = std::filesystem::path(o.mesh).filename().string();
+    for (const auto& [stage, d] : {std::pair{"projected", map.initial}, std::pair{"optimized", map.final}})
+      out << name << ',' << mesh.triangleCount() << ',' << cubes.size() << ',' << o.energy << ',' << stage << ','
+          << d.area << ',' << d.angle << ',' << d.stretchEfficiency << ',' << d.flipped << ','
+          << (stage == std::string("projected") ? 0 : map.sweeps) << ','
+          << (stage == std::string("projected") ? 0.0 : map.seconds) << '\n';
+    out.flush();
+    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
+  }
+  atomic.commit();
 }
 
 int runPolycube(const PolycubeCommandOptions& o) {
@@ -96,14 +122,46 @@ int runPolycube(const PolycubeCommandOptions& o) {
     std::printf(" %s: %zu", polycube::kVertexCaseNames[c].data(), s.perCase[c]);
   std::printf("\n");
 
+  const std::optional<polycube::PolycubeEnergy> energy = polycube::parsePolycubeEnergy(o.energy);
+  if (!energy) throw Error(ErrorKind::InvalidArgument, "--energy: '" + o.energy + "' is not mvc, mips or extended-mips");
+  const polycube::PolycubeSurface domain = withPath(o.cubes.empty() ? o.mesh : o.cubes, [&] {
+    return polycube::PolycubeSurface(cubes);
+  });
+  polycube::ParameterizationOptions mapOptions;
+  mapOptions.energy = *energy;
+  mapOptions.maxSweeps = o.sweeps;
+  mapOptions.progress = [](int sweep, const polycube::Distortion& d) {
+    if (sweep % 50 == 0)
+      std::printf("  sweep %4d   area %.4f, angle %.4f, stretch efficiency %.3f, %zu flipped\n", sweep, d.area, d.angle,
+                  d.stretchEfficiency, d.flipped);
+  };
+  const polycube::PolycubeParameterization map =
+      withPath(o.mesh, [&] { return polycube::parameterize(mesh, domain, frame, mapOptions); });
+  if (map.coarseVertices > 0)
+    std::printf("map           started from its decimation to %zu vertices (%d sweeps)\n", map.coarseVertices,
+                map.coarseSweeps);
+  std::printf("map           %s, %d sweeps, %.2f s\n", o.energy.c_str(), map.sweeps, map.seconds);
+  std::printf("distortion    %-9s %8s %8s %10s %8s\n", "", "area", "angle", "stretch", "flipped");
+  for (const auto& [name, d] : {std::pair{"projected", map.initial}, std::pair{"optimized", map.final}})
+    std::printf("              %-9s %8.4f %8.4f %10.3f %8zu\n", name, d.area, d.angle, d.stretchEfficiency, d.flipped);
+  if (map.final.flipped > 0)
+    throw Error(ErrorKind::InvalidInput, o.mesh,
+                "the map onto the polycube still folds " + std::to_string(map.final.flipped) + " of " +
+                    std::to_string(mesh.triangleCount()) + " triangles after " + std::to_string(map.sweeps) +
+                    " sweeps: a feature is likely thinner than a cube or the polycube misses it; try another --grid, "
+                    "more --sweeps or a polycube of your own (--cubes)");
+
   const std::filesystem::path dir(o.output);
   std::filesystem::create_directories(dir);
   polycube::writePolycube(cubes, frame, dir / "polycube.txt");
   const TriangleMesh surface = surfaceByCase(cubes, frame);
   io::writeMesh(surface, dir / "polycube_surface.ply");
   writePreview(surface, dir / "polycube_cases.png");
+  polycube::writeTexturedMesh(mesh, map.texture, dir / "mesh_texture.obj");
+  writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "
-              "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple)\n", dir.string().c_str());
+              "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple), mesh_texture.obj (vt: texture "
+              "positions in lattice coordinates), distortion.csv\n", dir.string().c_str());
   return 0;
 }
 
@@ -123,6 +181,13 @@ Command addPolycubeCommand(CLI::App& app) {
                   "Use this polycube instead: a text file of integer cube coordinates 'x y z', one per line, "
                   "optionally a line 'frame x y z size' placing the lattice in world space")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--energy", o->energy,
+                  "What the map's optimization lowers: extended-mips (angles and areas, Degener et al., theta = 3), "
+                  "mips (angles only) or mvc (mean value coordinates)")
+      ->capture_default_str();
+  cmd->add_option("--sweeps", o->sweeps, "Most optimization sweeps over the vertices")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   return {cmd, [o]() { return runPolycube(*o); }};
 }
 

@@ -113,10 +113,28 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   test::TempDir dir;
   const Result r = run("polycube " + mesh.string() + " -o " + (dir / "auto").string());
   ASSERT_EQ(r.status, 0) << r.output;
-  for (const char* words : {"chosen N = 10", "genus 3 (mesh: 3)", "vertex cases", "5:"})
+  for (const char* words : {"chosen N = 10", "genus 3 (mesh: 3)", "vertex cases", "5:", "optimized", "extended-mips"})
     EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
-  for (const char* file : {"polycube.txt", "polycube_surface.ply", "polycube_cases.png"})
+  for (const char* file :
+       {"polycube.txt", "polycube_surface.ply", "polycube_cases.png", "mesh_texture.obj", "distortion.csv"})
     EXPECT_TRUE(std::filesystem::exists(dir / "auto" / file)) << file;
+  // The map: one texture position per vertex, and the table's rows with no flipped triangle left.
+  const std::string obj = test::readBytes(dir / "auto" / "mesh_texture.obj");
+  std::size_t vertices = 0, textures = 0;
+  for (std::size_t at = 0; (at = obj.find('\n', at)) != std::string::npos; ++at) {
+    vertices += obj.compare(at + 1, 2, "v ") == 0;
+    textures += obj.compare(at + 1, 3, "vt ") == 0;
+  }
+  EXPECT_GT(vertices, 1000u);
+  EXPECT_EQ(textures, vertices);
+  const std::string table = test::readBytes(dir / "auto" / "distortion.csv");
+  EXPECT_TRUE(test::hasWords(table, "area_distortion,angle_distortion,stretch_efficiency,flipped")) << table;
+  EXPECT_TRUE(test::hasWords(table, ",optimized,")) << table;
+  EXPECT_NE(table.find(",0,", table.find("optimized")), std::string::npos) << table;
+  const Result badEnergy = run("polycube " + mesh.string() + " --energy tutte -o " + (dir / "tutte").string());
+  EXPECT_NE(badEnergy.status, 0);
+  EXPECT_TRUE(test::hasWords(badEnergy.output, "tutte")) << badEnergy.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "tutte"));
   // The written cube file is accepted back.
   const Result again = run("polycube " + mesh.string() + " --cubes " + (dir / "auto" / "polycube.txt").string() +
                            " -o " + (dir / "again").string());

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <utility>
 #include <span>
@@ -21,43 +22,66 @@
 
 namespace cellrelief {
 
-/// Squared distance from p to the segment [a, b].
+/// Barycentric weights of the point of triangle (a, b, c) nearest to p (Ericson, Real-Time
+/// Collision Detection 5.1.5); a degenerate triangle is treated as its three edges.
 template <Real T>
-T pointSegmentDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b) {
-  const Vec3<T> ab = b - a;
-  const T len2 = glm::dot(ab, ab);
-  const T t = len2 > 0 ? glm::clamp(glm::dot(p - a, ab) / len2, T(0), T(1)) : T(0);
-  const Vec3<T> d = p - (a + t * ab);
-  return glm::dot(d, d);
-}
-
-/// Squared distance from p to the triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5);
-/// a degenerate triangle is treated as its three edges.
-template <Real T>
-T pointTriangleDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
+Vec3<T> closestPointBarycentrics(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
   const Vec3<T> ab = b - a, ac = c - a, ap = p - a;
   const Vec3<T> n = glm::cross(ab, ac);
-  if (glm::dot(n, n) == T(0))
-    return std::min({pointSegmentDistance2(p, a, b), pointSegmentDistance2(p, b, c),
-                     pointSegmentDistance2(p, c, a)});
+  if (glm::dot(n, n) == T(0)) {
+    // The nearest of the three edges, each as a segment parameter.
+    const auto onSegment = [&](const Vec3<T>& from, const Vec3<T>& to) {
+      const Vec3<T> d = to - from;
+      const T len2 = glm::dot(d, d);
+      return len2 > 0 ? glm::clamp(glm::dot(p - from, d) / len2, T(0), T(1)) : T(0);
+    };
+    const T tab = onSegment(a, b), tbc = onSegment(b, c), tca = onSegment(c, a);
+    const Vec3<T> candidates[3] = {Vec3<T>(1 - tab, tab, 0), Vec3<T>(0, 1 - tbc, tbc), Vec3<T>(tca, 0, 1 - tca)};
+    Vec3<T> best = candidates[0];
+    T bestDistance2 = std::numeric_limits<T>::infinity();
+    for (const Vec3<T>& w : candidates) {
+      const Vec3<T> d = p - (w[0] * a + w[1] * b + w[2] * c);
+      if (glm::dot(d, d) < bestDistance2) {
+        bestDistance2 = glm::dot(d, d);
+        best = w;
+      }
+    }
+    return best;
+  }
   const T d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  auto dist2 = [&](const Vec3<T>& q) { return glm::dot(p - q, p - q); };
-  if (d1 <= 0 && d2 <= 0) return dist2(a);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
   const Vec3<T> bp = p - b;
   const T d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return dist2(b);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
   const T vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return dist2(a + ab * (d1 / (d1 - d3)));
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const T v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
   const Vec3<T> cp = p - c;
   const T d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return dist2(c);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
   const T vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return dist2(a + ac * (d2 / (d2 - d6)));
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const T w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
   const T va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return dist2(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const T w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
   const T denom = T(1) / (va + vb + vc);
-  return dist2(a + ab * (vb * denom) + ac * (vc * denom));
+  const T v = vb * denom, w = vc * denom;
+  return {1 - v - w, v, w};
+}
+
+/// Squared distance from p to the triangle (a, b, c).
+template <Real T>
+T pointTriangleDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c) {
+  const Vec3<T> w = closestPointBarycentrics(p, a, b, c);
+  const Vec3<T> d = p - (w[0] * a + w[1] * b + w[2] * c);
+  return glm::dot(d, d);
 }
 
 template <Real T>

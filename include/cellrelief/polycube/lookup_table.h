@@ -117,9 +117,17 @@ class PolycubeLut {
       if (std::abs(d[axis]) > tolerance) break;
       const int a = (axis + 1) % 3, b = (axis + 2) % 3;
       const int lo = std::min(a, b), hi = std::max(a, b);
-      const int octant = (d[lo] > 0 ? 1 << lo : 0) | (d[hi] > 0 ? 1 << hi : 0);
-      const int squarelet = squareletIndex(octant, axis);
-      if (e.squarelets() & (1u << squarelet)) return SquareletPoint{vertex, squarelet, 2.0 * Vec2d(std::abs(d[lo]), std::abs(d[hi]))};
+      // On a lattice line through the vertex (a coordinate within tolerance of 0) the point lies
+      // in the squarelets of both sides: try each.
+      const int loSides = std::abs(d[lo]) <= tolerance ? 2 : 1, hiSides = std::abs(d[hi]) <= tolerance ? 2 : 1;
+      for (int i = 0; i < loSides; ++i)
+        for (int j = 0; j < hiSides; ++j) {
+          const bool loPositive = loSides == 2 ? i == 1 : d[lo] > 0, hiPositive = hiSides == 2 ? j == 1 : d[hi] > 0;
+          const int octant = (loPositive ? 1 << lo : 0) | (hiPositive ? 1 << hi : 0);
+          const int squarelet = squareletIndex(octant, axis);
+          if (e.squarelets() & (1u << squarelet))
+            return SquareletPoint{vertex, squarelet, 2.0 * Vec2d(std::abs(d[lo]), std::abs(d[hi]))};
+        }
     }
     return std::nullopt;
   }

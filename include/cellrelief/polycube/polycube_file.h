@@ -11,18 +11,24 @@
 /// Reading refuses, naming the file and line, anything else: a line that is not three integers,
 /// a coordinate out of range, a second frame line, a cube size that is not positive and finite,
 /// more than kMaxCubes cubes, or a file without cubes. Writing is atomic.
+///
+/// `writeTexturedMesh` writes a mesh with its 3D texture positions as Wavefront OBJ: `v` the
+/// mesh's vertices, `vt u v w` each vertex's texture position in the polycube's lattice
+/// coordinates (the look-up table's space), `f a/a b/b c/c`.
 #pragma once
 
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cellrelief/io/atomic_file.h"
 #include "cellrelief/io/detail/format_checks.h"
+#include "cellrelief/core/triangle_mesh.h"
 #include "cellrelief/polycube/polycube.h"
 
 namespace cellrelief::polycube {
@@ -114,6 +120,28 @@ inline void writePolycube(const Polycube& polycube, const PolycubeFrame& frame, 
         << "frame " << frame.origin.x << ' ' << frame.origin.y << ' ' << frame.origin.z << ' ' << frame.cubeSize
         << '\n';
     for (const Vec3i& c : polycube.cubes()) out << c.x << ' ' << c.y << ' ' << c.z << '\n';
+    out.flush();
+    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
+  }
+  atomic.commit();
+}
+
+inline void writeTexturedMesh(const TriangleMesh& mesh, std::span<const Vec3d> texture,
+                              const std::filesystem::path& path) {
+  if (texture.size() != mesh.positions.size())
+    throw Error(ErrorKind::InvalidArgument, path, "one texture position per vertex is needed");
+  io::AtomicFile atomic(path);
+  {
+    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
+    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+    out.precision(9);
+    out << "# cellrelief polycube map: vt u v w is each vertex's texture position in the polycube's lattice\n";
+    for (const Vec3f& p : mesh.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    out.precision(12);
+    for (const Vec3d& u : texture) out << "vt " << u.x << ' ' << u.y << ' ' << u.z << '\n';
+    for (const Vec3u& t : mesh.triangles)
+      out << "f " << t[0] + 1 << '/' << t[0] + 1 << ' ' << t[1] + 1 << '/' << t[1] + 1 << ' ' << t[2] + 1 << '/'
+          << t[2] + 1 << '\n';
     out.flush();
     if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
   }

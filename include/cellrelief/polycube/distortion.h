@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+/// @file distortion.h
+/// How far a map from a triangle mesh to its texture positions is from an isometry, as the
+/// PolyCube-Maps paper's Table 1 reports it. Per triangle, the map is the affine one from the mesh
+/// triangle to its texture triangle (both in 3D), with singular values s1 >= s2, after scaling
+/// the texture so that its total area equals the mesh's (distortion does not depend on scale):
+/// - area distortion: the area-weighted mean of (s1 s2 + 1/(s1 s2)) / 2, 1 when areas are kept;
+/// - angle distortion: the area-weighted mean of (s1/s2 + s2/s1) / 2, 1 when angles are kept;
+/// - stretch efficiency (Praun & Hoppe 2003): 1 / L2^2, where L2 is Sander et al.'s stretch of
+///   the inverse map (texture to mesh), the root mean square over the mesh's area of
+///   sqrt((1/s1^2 + 1/s2^2) / 2); 1 for an isometry, below 1 where the texture undersamples, and
+///   the fraction of its texels a signal sampled uniformly on the mesh makes use of;
+/// - flipped: triangles whose texture triangle faces into the polycube (or has no area); they are
+///   left out of the three means.
+/// Texture triangles are flat: a triangle that straddles a polycube edge cuts its corner, which
+/// is small for triangles small against a cube (the paper measures the same way).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/core/math.h"
+#include "cellrelief/core/triangle_mesh.h"
+
+namespace cellrelief::polycube {
+
+struct Distortion {
+  double area = 1, angle = 1, stretchEfficiency = 1;
+  std::size_t flipped = 0;
+};
+
+/// A mesh triangle as the distortion reads it: its area and the inverse of its edge matrix in a
+/// 2D frame of its own plane. Degenerate triangles get zero area and are skipped.
+struct TriangleFrame {
+  double area = 0;
+  double inverse[2][2] = {{0, 0}, {0, 0}};
+
+  TriangleFrame() = default;
+  TriangleFrame(const Vec3d& x0, const Vec3d& x1, const Vec3d& x2) {
+    const Vec3d e1 = x1 - x0, e2 = x2 - x0;
+    const double length1 = glm::length(e1);
+    const double twiceArea = glm::length(glm::cross(e1, e2));
+    if (!(length1 > 0) || !(twiceArea > 1e-14 * length1 * length1) || !std::isfinite(twiceArea)) return;
+    // Edge matrix [p1 p2] with p1 = (|e1|, 0), p2 = (e2.b1, e2.b2): upper triangular.
+    const double p2x = glm::dot(e2, e1) / length1, p2y = twiceArea / length1;
+    area = 0.5 * twiceArea;
+    inverse[0][0] = 1 / length1;
+    inverse[0][1] = -p2x / (length1 * p2y);
+    inverse[1][0] = 0;
+    inverse[1][1] = 1 / p2y;
+  }
+  bool degenerate() const { return area == 0; }
+};
+
+/// The two numbers every measure needs from one triangle's map: s1^2 + s2^2 (the squared
+/// Frobenius norm of its Jacobian) and the texture triangle's area, signed by whether it faces
+/// `outward` (the sum of the surface normals at its corners).
+struct TriangleStretch {
+  double frobenius2 = 0;
+  double signedArea = 0;
+};
+
+inline TriangleStretch triangleStretch(const TriangleFrame& frame, const Vec3d& u0, const Vec3d& u1, const Vec3d& u2,
+                                       const Vec3d& outward) {
+  const Vec3d f1 = u1 - u0, f2 = u2 - u0;
+  const Vec3d column0 = f1 * frame.inverse[0][0] + f2 * frame.inverse[1][0];
+  const Vec3d column1 = f1 * frame.inverse[0][1] + f2 * frame.inverse[1][1];
+  const Vec3d c = glm::cross(f1, f2);
+  const double area = 0.5 * glm::length(c);
+  return {glm::dot(column0, column0) + glm::dot(column1, column1), glm::dot(c, outward) > 0 ? area : -area};
+}
+
+/// The measures over a whole map; `outward(i)` gives triangle i's outward direction.
+template <class Outward>
+Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<const Vec3u> triangles,
+                             std::span<const Vec3d> texture, Outward&& outward) {
+  if (frames.size() != triangles.size())
+    throw Error(ErrorKind::InvalidArgument, "distortion: one frame per triangle is needed");
+  std::vector<TriangleStretch> stretch(triangles.size());
+  double meshArea = 0, textureArea = 0;
+  Distortion d;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    if (frames[i].degenerate()) continue;
+    const Vec3u& t = triangles[i];
+    stretch[i] = triangleStretch(frames[i], texture[t[0]], texture[t[1]], texture[t[2]], outward(i));
+    if (!(stretch[i].signedArea > 0)) {
+      ++d.flipped;
+      continue;
+    }
+    meshArea += frames[i].area;
+    textureArea += stretch[i].signedArea;
+  }
+  if (!(meshArea > 0)) {
+    d.area = d.angle = d.stretchEfficiency = 0;
+    return d;
+  }
+  const double scale2 = textureArea / meshArea;  // texture area per unit of mesh area
+  double area = 0, angle = 0, stretch2 = 0;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    if (frames[i].degenerate() || !(stretch[i].signedArea > 0)) continue;
+    const double m = frames[i].area;
+    const double s1s2 = stretch[i].signedArea / (m * scale2);   // after scaling to equal areas
+    const double sum2 = stretch[i].frobenius2 / scale2;          // s1^2 + s2^2, scaled likewise
+    area += m * 0.5 * (s1s2 + 1 / s1s2);
+    angle += m * 0.5 * sum2 / s1s2;
+    // The inverse map's singular values are 1/s1, 1/s2: (1/s1^2 + 1/s2^2) / 2 over this area.
+    stretch2 += m * 0.5 * sum2 / (s1s2 * s1s2);
+  }
+  d.area = area / meshArea;
+  d.angle = angle / meshArea;
+  d.stretchEfficiency = meshArea / stretch2;
+  return d;
+}
+
+}  // namespace cellrelief::polycube

@@ -1,0 +1,567 @@
+// SPDX-License-Identifier: MIT
+/// @file parameterization.h
+/// Texture positions for a mesh on its polycube's surface (PolyCube-Maps, section 5): each vertex
+/// gets a 3D point of the surface, and a fragment's texture position is the linear interpolation
+/// of its triangle's three, which P takes back onto the surface.
+///
+/// 1. `projectAlongNormals`: each vertex goes to the nearest point of the surface along its
+///    normal, either way (the polycube lies in the mesh's own space, warped by the cell complex it
+///    was built from, or by the frame a cube file gives), or to the closest point of the surface
+///    when no face is within reach along the normal.
+/// 2. `PolycubeParameterizer`: the paper's iterative local optimization. One vertex at a time
+///    moves in the tangent plane of the surface to lower the energy of its triangles and P puts
+///    it back on the surface; a move is kept only if it lowers the number of flipped triangles
+///    around the vertex, or keeps it and lowers the energy, so a map without flips keeps none.
+///    Energies: MIPS (Hormann & Greiner 2000: s1/s2 + s2/s1, angles only), extended MIPS
+///    (Degener et al. 2003: MIPS times (s1 s2 + 1/(s1 s2))^theta, theta = 3 as the paper's
+///    comparison uses, areas too), and mean value coordinates (Floater 2003: each vertex to the
+///    mean-value average of its neighbours, the boundary fixed), the paper's Fig. 8 comparison.
+///    Vertices with flipped triangles around them first try the mean-value average, which
+///    untangles the folds normal projection leaves at concave creases.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cellrelief/core/bvh.h"
+#include "cellrelief/core/parallel.h"
+#include "cellrelief/core/triangle_mesh.h"
+#include "cellrelief/polycube/distortion.h"
+#include "cellrelief/polycube/levels_of_detail.h"
+#include "cellrelief/polycube/polycube_surface.h"
+
+namespace cellrelief::polycube {
+
+enum class PolycubeEnergy { MeanValue, Mips, ExtendedMips };
+
+constexpr std::string_view toString(PolycubeEnergy e) {
+  switch (e) {
+    case PolycubeEnergy::MeanValue: return "mvc";
+    case PolycubeEnergy::Mips: return "mips";
+    case PolycubeEnergy::ExtendedMips: return "extended-mips";
+  }
+  return "?";
+}
+
+inline std::optional<PolycubeEnergy> parsePolycubeEnergy(std::string_view name) {
+  for (PolycubeEnergy e : {PolycubeEnergy::MeanValue, PolycubeEnergy::Mips, PolycubeEnergy::ExtendedMips})
+    if (toString(e) == name) return e;
+  return std::nullopt;
+}
+
+struct ParameterizationOptions {
+  PolycubeEnergy energy = PolycubeEnergy::ExtendedMips;
+  double theta = 3;   ///< extended MIPS: the weight of area against angle
+  int maxSweeps = 400;
+  /// Stop when a sweep over all vertices lowers the energy by less than this fraction (MIPS),
+  /// or moves no vertex by more than this many cubes (mean value coordinates).
+  double stopChange = 1e-4;
+  /// A mesh of more than twice this many vertices starts from the map of its decimation to this
+  /// many (levels_of_detail.h): one vertex's moves reach only its neighbours, so on a large mesh
+  /// the sweeps a global change needs grow with its size. 0: always start from the projection.
+  std::size_t coarseVertices = 3000;
+  /// Called after each sweep with its number and the map's distortion then.
+  std::function<void(int sweep, const Distortion&)> progress = nullptr;
+};
+
+struct PolycubeParameterization {
+  std::vector<Vec3d> texture;  ///< per mesh vertex: lattice coordinates on the polycube's surface
+  Distortion initial;          ///< after the projection along normals
+  Distortion final;
+  int sweeps = 0;
+  std::size_t byClosestPoint = 0;  ///< vertices no face was within reach of along the normal
+  std::size_t coarseVertices = 0;  ///< of the decimated mesh the map started from; 0: none
+  int coarseSweeps = 0;
+  double seconds = 0;
+};
+
+/// Mesh positions in the polycube's lattice coordinates.
+inline std::vector<Vec3d> latticePositions(const TriangleMesh& mesh, const PolycubeFrame& frame) {
+  if (!(frame.cubeSize > 0) || !std::isfinite(frame.cubeSize))
+    throw Error(ErrorKind::InvalidArgument, "polycube parameterization: the cube size must be positive");
+  std::vector<Vec3d> out(mesh.positions.size());
+  for (std::size_t v = 0; v < out.size(); ++v) out[v] = (Vec3d(mesh.positions[v]) - frame.origin) / frame.cubeSize;
+  return out;
+}
+
+/// Step 1: each vertex onto the surface along its normal (the nearer hit either way, within
+/// `reach` cubes), else to the surface's closest point. Counts the latter in `byClosestPoint`.
+inline std::vector<Vec3d> projectAlongNormals(const TriangleMesh& mesh, std::span<const Vec3d> lattice,
+                                              const PolycubeSurface& surface, std::size_t* byClosestPoint = nullptr,
+                                              double reach = 2.0) {
+  const TriangleMesh cubes = surface.polycube().surfaceMesh();  // lattice units: exact integers
+  const std::vector<Vec3d> corners(cubes.positions.begin(), cubes.positions.end());
+  const TriangleBvh<double> bvh(corners, cubes.triangles);
+  const std::vector<Vec3f> normals = computeVertexNormals(mesh);
+  std::vector<Vec3d> out(lattice.size());
+  std::vector<std::uint8_t> fellBack(lattice.size(), 0);
+  parallelFor(0, lattice.size(), [&](std::size_t v) {
+    const Vec3d x = lattice[v], n(normals[v]);
+    std::optional<Vec3d> hitPoint;
+    if (glm::dot(n, n) > 0.5) {
+      double best = reach;
+      for (double sign : {1.0, -1.0}) {
+        const Hitd hit = bvh.closestHit(Rayd(x, sign * n, 0.0, best));
+        if (hit.valid() && hit.t < best) {
+          best = hit.t;
+          hitPoint = x + sign * hit.t * n;
+        }
+      }
+    }
+    if (!hitPoint) {
+      // A face's two triangles span its square, which is their bounding box: clamp to it.
+      const std::uint32_t id = bvh.closestPoint(x).second;
+      const Vec3u& t = cubes.triangles[id];
+      Vec3d lo = corners[t[0]], hi = corners[t[0]];
+      for (int k = 1; k < 3; ++k) {
+        lo = glm::min(lo, corners[t[k]]);
+        hi = glm::max(hi, corners[t[k]]);
+      }
+      hitPoint = glm::clamp(x, lo, hi);
+      fellBack[v] = 1;
+    }
+    // Snap onto the surface exactly (a hit is on it up to rounding).
+    out[v] = surface.project(*hitPoint).value_or(*hitPoint);
+  }, 256);
+  if (byClosestPoint) *byClosestPoint = std::size_t(std::count(fellBack.begin(), fellBack.end(), 1));
+  return out;
+}
+
+/// Step 2: the local optimization, on one mesh, starting from given texture positions.
+class PolycubeParameterizer {
+ public:
+  /// `lattice`: the mesh's positions in lattice coordinates; `texture`: where it starts.
+  PolycubeParameterizer(std::span<const Vec3u> triangles, std::span<const Vec3d> lattice,
+                        const PolycubeSurface& surface, std::vector<Vec3d> texture)
+      : mSurface(surface), mTriangles(triangles.begin(), triangles.end()), mTexture(std::move(texture)) {
+    if (mTexture.size() != lattice.size())
+      throw Error(ErrorKind::InvalidArgument, "polycube parameterization: one texture position per vertex is needed");
+    for (const Vec3u& t : mTriangles)
+      for (int k = 0; k < 3; ++k)
+        if (t[k] >= lattice.size())
+          throw Error(ErrorKind::InvalidArgument, "polycube parameterization: a triangle refers to a missing vertex");
+    buildRings(lattice);
+    mNormals.resize(mTexture.size());
+    for (std::size_t v = 0; v < mTexture.size(); ++v) mNormals[v] = mSurface.normal(mTexture[v]);
+    chooseOrientation();
+  }
+
+  std::span<const Vec3d> texture() const { return mTexture; }
+
+  Distortion distortion() const {
+    return measureDistortion(mFrames, mTriangles, mTexture, [&](std::size_t i) { return outward(i); });
+  }
+
+  /// Untangles, then sweeps until the stopping rule holds; where flips are left (a fold the
+  /// energy's barrier locked in), untangles and sweeps again, at most three rounds. Returns the
+  /// sweeps run.
+  int optimize(const ParameterizationOptions& options) {
+    mOptions = options;
+    int sweep = 0;
+    for (int round = 0; round < 3; ++round) {
+      sweep = untangle(options, sweep);
+      sweep = settle(options, sweep);
+      if (flippedCount() == 0 || options.energy == PolycubeEnergy::MeanValue) break;
+    }
+    return sweep;
+  }
+
+ private:
+  /// Sweeps of the chosen energy until a sweep changes little (options.stopChange) or
+  /// options.maxSweeps ran; `sweep` counts on from where it was.
+  int settle(const ParameterizationOptions& options, int sweep) {
+    double before = totalEnergy();
+    for (int limit = sweep + options.maxSweeps; sweep < limit;) {
+      ++sweep;
+      const double largestMove = options.energy == PolycubeEnergy::MeanValue ? meanValueSweep() : energySweep();
+      const double after = totalEnergy();
+      if (options.progress) options.progress(sweep, distortion());
+      const bool settled = options.energy == PolycubeEnergy::MeanValue ? largestMove < options.stopChange
+                                                                       : before - after < options.stopChange * before;
+      if (settled || largestMove == 0) break;
+      before = after;
+    }
+    return sweep;
+  }
+
+  struct RingEnergy {
+    std::size_t flipped = 0;
+    double energy = 0;
+    bool operator<(const RingEnergy& o) const {
+      return flipped != o.flipped ? flipped < o.flipped : energy < o.energy;
+    }
+  };
+
+  void buildRings(std::span<const Vec3d> lattice) {
+    const std::size_t n = lattice.size();
+    mFrames.resize(mTriangles.size());
+    mRingStart.assign(n + 1, 0);
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      const Vec3u& t = mTriangles[i];
+      mFrames[i] = TriangleFrame(lattice[t[0]], lattice[t[1]], lattice[t[2]]);
+      for (int k = 0; k < 3; ++k) ++mRingStart[t[k] + 1];
+    }
+    for (std::size_t v = 0; v < n; ++v) mRingStart[v + 1] += mRingStart[v];
+    mRing.resize(mRingStart[n]);
+    std::vector<std::size_t> fill(mRingStart.begin(), mRingStart.end() - 1);
+    for (std::size_t i = 0; i < mTriangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) mRing[fill[mTriangles[i][k]]++] = std::uint32_t(i);
+    buildMeanValueWeights(lattice);
+  }
+
+  /// Floater's weights from the mesh's own angles: w_j = (tan(a/2) + tan(b/2)) / |x_j - x_v|
+  /// over the two triangles beside edge vj; a boundary vertex (an edge with one triangle) stays.
+  void buildMeanValueWeights(std::span<const Vec3d> lattice) {
+    const std::size_t n = lattice.size();
+    mNeighbourStart.assign(n + 1, 0);
+    mBoundary.assign(n, 0);
+    std::vector<std::pair<std::uint32_t, double>> ring;
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> all(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      ring.clear();
+      std::vector<std::pair<std::uint32_t, int>> edgeUse;
+      for (std::size_t r = mRingStart[v]; r < mRingStart[v + 1]; ++r) {
+        const Vec3u& t = mTriangles[mRing[r]];
+        const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        const std::uint32_t j = t[(k + 1) % 3], l = t[(k + 2) % 3];
+        const Vec3d a = lattice[j] - lattice[v], b = lattice[l] - lattice[v];
+        const double la = glm::length(a), lb = glm::length(b);
+        const double angle = la > 0 && lb > 0 ? std::acos(std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0)) : 0.0;
+        const double half = std::tan(0.5 * angle);
+        ring.push_back({j, la > 0 ? half / la : 0.0});
+        ring.push_back({l, lb > 0 ? half / lb : 0.0});
+        edgeUse.push_back({j, 1});
+        edgeUse.push_back({l, 1});
+      }
+      std::sort(ring.begin(), ring.end());
+      std::sort(edgeUse.begin(), edgeUse.end());
+      for (std::size_t e = 0; e < edgeUse.size();) {  // an edge used by one triangle: boundary
+        std::size_t f = e;
+        while (f < edgeUse.size() && edgeUse[f].first == edgeUse[e].first) ++f;
+        if (f - e == 1) mBoundary[v] = 1;
+        e = f;
+      }
+      for (const auto& [j, w] : ring) {
+        if (!all[v].empty() && all[v].back().first == j) all[v].back().second += w;
+        else all[v].push_back({j, w});
+      }
+      mNeighbourStart[v + 1] = mNeighbourStart[v] + all[v].size();
+    }
+    mNeighbours.reserve(mNeighbourStart[n]);
+    for (auto& list : all) mNeighbours.insert(mNeighbours.end(), list.begin(), list.end());
+  }
+
+  /// A triangle's outward direction: the sum of the surface normals at its corners, turned
+  /// round when the mesh is oriented inwards.
+  Vec3d outward(std::size_t i) const {
+    const Vec3u& t = mTriangles[i];
+    return mOrientation * (mNormals[t[0]] + mNormals[t[1]] + mNormals[t[2]]);
+  }
+
+  void chooseOrientation() {
+    double signedArea = 0;
+    mOrientation = 1;
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      signedArea += triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i)).signedArea;
+    }
+    if (signedArea < 0) mOrientation = -1;
+  }
+
+  /// Texture area per unit of mesh area over the unflipped triangles: the scale at which the
+  /// energies compare areas.
+  void updateScale() {
+    double mesh = 0, texture = 0;
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      const TriangleStretch s = triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i));
+      if (s.signedArea > 0) {
+        mesh += mFrames[i].area;
+        texture += s.signedArea;
+      }
+    }
+    mScale2 = mesh > 0 && texture > 0 ? texture / mesh : 1.0;
+  }
+
+  /// One triangle's energy, area-weighted; infinity when it is flipped or flat, unless the
+  /// untangling regularization is on: then s1 s2 is replaced by (D + sqrt(eps^2 + D^2)) / 2,
+  /// positive for every triangle and close to D where D >> eps (Garanzha et al. 2021,
+  /// "Foldover-free maps in 50 lines of code"), so descent can pull flipped triangles back.
+  double triangleEnergy(const TriangleFrame& frame, const TriangleStretch& s) const {
+    double s1s2 = s.signedArea / (frame.area * mScale2);
+    if (mEpsilon > 0) s1s2 = 0.5 * (s1s2 + std::sqrt(mEpsilon * mEpsilon + s1s2 * s1s2));
+    if (!(s1s2 > 0)) return std::numeric_limits<double>::infinity();
+    const double angle = s.frobenius2 / mScale2 / s1s2;  // s1/s2 + s2/s1
+    if (mOptions.energy != PolycubeEnergy::ExtendedMips) return frame.area * angle;
+    return frame.area * angle * std::pow(s1s2 + 1 / s1s2, mOptions.theta);
+  }
+
+  /// The energy of v's triangles with v at `p` (normal `n`).
+  RingEnergy ringEnergy(std::size_t v, const Vec3d& p, const Vec3d& n) const {
+    RingEnergy e;
+    for (std::size_t r = mRingStart[v]; r < mRingStart[v + 1]; ++r) {
+      const std::uint32_t i = mRing[r];
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      Vec3d w[3], normal(0.0);
+      for (int k = 0; k < 3; ++k) {
+        w[k] = t[k] == v ? p : mTexture[t[k]];
+        normal += t[k] == v ? n : mNormals[t[k]];
+      }
+      const TriangleStretch s = triangleStretch(mFrames[i], w[0], w[1], w[2], mOrientation * normal);
+      const double energy = triangleEnergy(mFrames[i], s);
+      if (std::isfinite(energy)) e.energy += energy;
+      else ++e.flipped;
+    }
+    return e;
+  }
+
+  double totalEnergy() {
+    updateScale();
+    double sum = 0;
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      const double e = triangleEnergy(mFrames[i], triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]],
+                                                                  mTexture[t[2]], outward(i)));
+      if (std::isfinite(e)) sum += e;
+    }
+    return sum;
+  }
+
+  std::size_t flippedCount() const {
+    std::size_t flipped = 0;
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      if (!(triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i)).signedArea > 0))
+        ++flipped;
+    }
+    return flipped;
+  }
+
+  /// Untangles the folds normal projection leaves at the polycube's concave creases and where
+  /// a feature is thinner than a cube: mean-value sweeps while they lower the number of flipped
+  /// triangles, then sweeps of the regularized energy with eps shrinking. Keeps the state with
+  /// the fewest flips; returns the sweep count, continued from `sweep`.
+  int untangle(const ParameterizationOptions& options, int sweep) {
+    int sinceBest = 0;
+    const int limit = sweep + options.maxSweeps;
+    std::size_t best = flippedCount();
+    std::vector<Vec3d> bestTexture = mTexture, bestNormals = mNormals;
+    bool regularized = false;
+    while (best > 0 && sweep < limit) {
+      if (sinceBest >= 20) {
+        if (regularized) break;
+        regularized = true;
+        mEpsilon = 1;
+        sinceBest = 0;
+        mTexture = bestTexture;
+        mNormals = bestNormals;
+      }
+      ++sweep;
+      if (regularized) {
+        energySweep();
+        mEpsilon = std::max(1e-3, 0.9 * mEpsilon);
+      } else {
+        meanValueSweep();
+      }
+      const std::size_t flipped = flippedCount();
+      if (options.progress) options.progress(sweep, distortion());
+      if (flipped < best) {
+        best = flipped;
+        bestTexture = mTexture;
+        bestNormals = mNormals;
+        sinceBest = 0;
+      } else {
+        ++sinceBest;
+      }
+    }
+    mEpsilon = 0;
+    mTexture = std::move(bestTexture);
+    mNormals = std::move(bestNormals);
+    return sweep;
+  }
+
+  /// The mean-value average of v's neighbours' texture positions, taken onto the surface.
+  std::optional<Vec3d> meanValueTarget(std::size_t v) const {
+    Vec3d sum(0.0);
+    double weight = 0;
+    for (std::size_t k = mNeighbourStart[v]; k < mNeighbourStart[v + 1]; ++k) {
+      sum += mNeighbours[k].second * mTexture[mNeighbours[k].first];
+      weight += mNeighbours[k].second;
+    }
+    if (!(weight > 0)) return std::nullopt;
+    return mSurface.project(sum / weight);
+  }
+
+  void moveTo(std::size_t v, const Vec3d& p, const Vec3d& n) {
+    mTexture[v] = p;
+    mNormals[v] = n;
+  }
+
+  /// Every interior vertex to its mean-value target; returns the largest move.
+  double meanValueSweep() {
+    double largest = 0;
+    for (std::size_t v = 0; v < mTexture.size(); ++v) {
+      if (mBoundary[v] || mRingStart[v] == mRingStart[v + 1]) continue;
+      const std::optional<Vec3d> target = meanValueTarget(v);
+      if (!target) continue;
+      largest = std::max(largest, glm::length(*target - mTexture[v]));
+      moveTo(v, *target, mSurface.normal(*target));
+    }
+    return largest;
+  }
+
+  /// One descent step per vertex (see the file comment); returns the largest move.
+  double energySweep() {
+    updateScale();
+    double largest = 0;
+    for (std::size_t v = 0; v < mTexture.size(); ++v) {
+      if (mRingStart[v] == mRingStart[v + 1]) continue;
+      RingEnergy current = ringEnergy(v, mTexture[v], mNormals[v]);
+      const Vec3d start = mTexture[v];
+      if (current.flipped > 0)
+        if (const std::optional<Vec3d> target = meanValueTarget(v)) {
+          const Vec3d n = mSurface.normal(*target);
+          const RingEnergy e = ringEnergy(v, *target, n);
+          if (e < current) {
+            moveTo(v, *target, n);
+            current = e;
+          }
+        }
+      descend(v, current);
+      largest = std::max(largest, glm::length(mTexture[v] - start));
+    }
+    return largest;
+  }
+
+  /// The gradient of v's ring energy with respect to its texture position (normals held), over
+  /// the triangles whose energy is finite. Per triangle, with X its texture area (signed), F the
+  /// squared Frobenius norm of its Jacobian J = sum_k u_k g_k^T (g_k: the gradients of its
+  /// barycentric coordinates on the mesh triangle), S the area scale and d = X / (A S) (or its
+  /// regularization): E = A (F / (S d)) (d + 1/d)^theta, dF/du_k = 2 J g_k and
+  /// dX/du_k = +-(1/2) c^ x (u_{k+2} - u_{k+1}).
+  Vec3d ringGradient(std::size_t v) const {
+    Vec3d gradient(0.0);
+    const double theta = mOptions.energy == PolycubeEnergy::ExtendedMips ? mOptions.theta : 0.0;
+    for (std::size_t r = mRingStart[v]; r < mRingStart[v + 1]; ++r) {
+      const std::uint32_t i = mRing[r];
+      const TriangleFrame& frame = mFrames[i];
+      if (frame.degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+      const Vec3d u0 = mTexture[t[0]], u1 = mTexture[t[1]], u2 = mTexture[t[2]];
+      const Vec3d f1 = u1 - u0, f2 = u2 - u0;
+      const Vec3d column0 = f1 * frame.inverse[0][0] + f2 * frame.inverse[1][0];
+      const Vec3d column1 = f1 * frame.inverse[0][1] + f2 * frame.inverse[1][1];
+      const Vec2d g1(frame.inverse[0][0], frame.inverse[0][1]), g2(frame.inverse[1][0], frame.inverse[1][1]);
+      const Vec2d gk = k == 0 ? -(g1 + g2) : k == 1 ? g1 : g2;
+      const Vec3d c = glm::cross(f1, f2);
+      const double length = glm::length(c);
+      if (!(length > 0)) continue;
+      const double sign = glm::dot(c, outward(i)) > 0 ? 1.0 : -1.0;
+      const double area = sign * 0.5 * length;
+      const double frobenius2 = glm::dot(column0, column0) + glm::dot(column1, column1);
+      double d = area / (frame.area * mScale2), dd = 1;  // dd: the regularization's derivative
+      if (mEpsilon > 0) {
+        const double root = std::sqrt(mEpsilon * mEpsilon + d * d);
+        dd = 0.5 * (1 + d / root);
+        d = 0.5 * (d + root);
+      }
+      if (!(d > 0)) continue;
+      const double q = theta > 0 ? std::pow(d + 1 / d, theta) : 1.0;
+      const double dQ = theta > 0 ? theta * std::pow(d + 1 / d, theta - 1) * (1 - 1 / (d * d)) : 0.0;
+      const double angle = frobenius2 / (mScale2 * d);
+      const double dEdF = frame.area * q / (mScale2 * d);
+      const double dEdd = frame.area * (-angle / d * q + angle * dQ);
+      const Vec3d dF = 2.0 * (column0 * gk.x + column1 * gk.y);
+      const Vec3d& next = k == 0 ? u1 : k == 1 ? u2 : u0;
+      const Vec3d& after = k == 0 ? u2 : k == 1 ? u0 : u1;
+      const Vec3d dX = sign * 0.5 * glm::cross(c / length, after - next);
+      gradient += dEdF * dF + dEdd * dd / (frame.area * mScale2) * dX;
+    }
+    return gradient;
+  }
+
+  /// A backtracking step down the tangential gradient of v's ring energy.
+  void descend(std::size_t v, const RingEnergy& current) {
+    const Vec3d p = mTexture[v], n = mNormals[v];
+    double shortest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = mNeighbourStart[v]; k < mNeighbourStart[v + 1]; ++k)
+      shortest = std::min(shortest, glm::length(mTexture[mNeighbours[k].first] - p));
+    if (!(shortest > 0) || !std::isfinite(shortest)) return;
+    Vec3d gradient = ringGradient(v);
+    gradient -= glm::dot(gradient, n) * n;
+    const double length = glm::length(gradient);
+    if (!(length > 0) || !std::isfinite(length)) return;
+    double distance = 0.5 * shortest;
+    for (int halving = 0; halving < 12; ++halving, distance *= 0.5) {
+      const std::optional<Vec3d> candidate = mSurface.project(p - (distance / length) * gradient);
+      if (!candidate) continue;
+      const Vec3d candidateNormal = mSurface.normal(*candidate);
+      if (ringEnergy(v, *candidate, candidateNormal) < current) {
+        moveTo(v, *candidate, candidateNormal);
+        return;
+      }
+    }
+  }
+
+  const PolycubeSurface& mSurface;
+  std::vector<Vec3u> mTriangles;
+  std::vector<TriangleFrame> mFrames;
+  std::vector<std::size_t> mRingStart;
+  std::vector<std::uint32_t> mRing;  ///< triangles around each vertex
+  std::vector<std::size_t> mNeighbourStart;
+  std::vector<std::pair<std::uint32_t, double>> mNeighbours;  ///< with their mean value weights
+  std::vector<std::uint8_t> mBoundary;
+  std::vector<Vec3d> mTexture, mNormals;
+  double mOrientation = 1;
+  double mScale2 = 1;
+  double mEpsilon = 0;  ///< the untangling regularization, 0 when off
+  ParameterizationOptions mOptions;
+};
+
+/// Both steps: texture positions for every vertex of `mesh` on `surface`, placed in world space
+/// by `frame`; a large mesh starts from the map of its decimation (options.coarseVertices).
+inline PolycubeParameterization parameterize(const TriangleMesh& mesh, const PolycubeSurface& surface,
+                                             const PolycubeFrame& frame, const ParameterizationOptions& options = {}) {
+  const auto start = std::chrono::steady_clock::now();
+  if (mesh.triangles.empty())
+    throw Error(ErrorKind::InvalidArgument, "polycube parameterization: the mesh has no triangles");
+  const std::vector<Vec3d> lattice = latticePositions(mesh, frame);
+  PolycubeParameterization result;
+  std::vector<Vec3d> texture;
+  if (options.coarseVertices > 0 && mesh.positions.size() > 2 * options.coarseVertices) {
+    const TriangleMesh coarse = decimate(mesh, options.coarseVertices);
+    ParameterizationOptions coarseOptions = options;
+    coarseOptions.coarseVertices = 0;
+    const PolycubeParameterization coarseMap = parameterize(coarse, surface, frame, coarseOptions);
+    result.coarseVertices = coarse.positions.size();
+    result.coarseSweeps = coarseMap.sweeps;
+    result.byClosestPoint = coarseMap.byClosestPoint;
+    texture = transferTexturePositions(latticePositions(coarse, frame), coarse.triangles, coarseMap.texture, lattice,
+                                       surface);
+  } else {
+    texture = projectAlongNormals(mesh, lattice, surface, &result.byClosestPoint);
+  }
+  PolycubeParameterizer parameterizer(mesh.triangles, lattice, surface, std::move(texture));
+  result.initial = parameterizer.distortion();
+  result.sweeps = parameterizer.optimize(options);
+  result.final = parameterizer.distortion();
+  result.texture.assign(parameterizer.texture().begin(), parameterizer.texture().end());
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace cellrelief::polycube
