@@ -115,4 +115,26 @@ Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<co
   return d;
 }
 
+/// The measures of a planar map given per triangle corner (3 per triangle, as a mesh cut into
+/// a disk has them): the baselines' maps. Their orientation is the one most of the area has.
+inline Distortion measurePlanarDistortion(const TriangleMesh& mesh, std::span<const Vec2d> corners) {
+  if (corners.size() != 3 * mesh.triangles.size())
+    throw Error(ErrorKind::InvalidArgument, "distortion: three texture corners per triangle are needed");
+  std::vector<TriangleFrame> frames;
+  std::vector<Vec3u> triangles;
+  std::vector<Vec3d> texture;
+  frames.reserve(mesh.triangles.size());
+  double signedArea = 0;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Vec3u& t = mesh.triangles[f];
+    frames.emplace_back(Vec3d(mesh.positions[t[0]]), Vec3d(mesh.positions[t[1]]), Vec3d(mesh.positions[t[2]]));
+    triangles.push_back(Vec3u(std::uint32_t(3 * f), std::uint32_t(3 * f + 1), std::uint32_t(3 * f + 2)));
+    for (int k = 0; k < 3; ++k) texture.push_back(Vec3d(corners[3 * f + k], 0.0));
+    const Vec2d a = corners[3 * f + 1] - corners[3 * f], b = corners[3 * f + 2] - corners[3 * f];
+    signedArea += a.x * b.y - a.y * b.x;
+  }
+  const Vec3d up(0, 0, signedArea < 0 ? -1.0 : 1.0);
+  return measureDistortion(frames, triangles, texture, [&](std::size_t) { return up; });
+}
+
 }  // namespace cellrelief::polycube
