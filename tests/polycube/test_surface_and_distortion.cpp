@@ -188,6 +188,18 @@ TEST(PolycubeParameterization, MapsASphereOntoACubeWithoutFlipsAndLowersItsDisto
   }
 }
 
+TEST(PolycubeParameterization, DoesNotDependOnTheThreadCount) {
+  const TriangleMesh sphere = makeIcosphere(3, 0.45f);
+  const PolycubeSurface surface(Polycube(std::vector<Vec3i>{{0, 0, 0}}));
+  const PolycubeFrame frame{Vec3d(-0.5), 1.0};
+  std::vector<Vec3d> texture[2];
+  for (std::size_t threads : {1u, 2u}) {
+    const ThreadLimit limit(threads);
+    texture[threads - 1] = parameterize(sphere, surface, frame).texture;
+  }
+  EXPECT_EQ(texture[0], texture[1]);
+}
+
 TEST(PolycubeParameterization, RefusesBadInput) {
   const PolycubeSurface surface(Polycube(std::vector<Vec3i>{{0, 0, 0}}));
   EXPECT_THROW(parameterize(TriangleMesh{}, surface, {}), Error);

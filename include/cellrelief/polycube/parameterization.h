@@ -8,10 +8,11 @@
 ///    normal, either way (the polycube lies in the mesh's own space, warped by the cell complex it
 ///    was built from, or by the frame a cube file gives), or to the closest point of the surface
 ///    when no face is within reach along the normal.
-/// 2. `PolycubeParameterizer`: the paper's iterative local optimization. One vertex at a time
-///    moves in the tangent plane of the surface to lower the energy of its triangles and P puts
-///    it back on the surface; a move is kept only if it lowers the number of flipped triangles
-///    around the vertex, or keeps it and lowers the energy, so a map without flips keeps none.
+/// 2. `PolycubeParameterizer`: the paper's iterative local optimization. Each vertex moves in
+///    the tangent plane of the surface to lower the energy of its triangles and P puts it back on
+///    the surface; a move is kept only if it lowers the number of flipped triangles around the
+///    vertex, or keeps it and lowers the energy, so a map without flips keeps none. Vertices that
+///    share no triangle move at the same time (a colouring of the mesh), in parallel.
 ///    Energies: MIPS (Hormann & Greiner 2000: s1/s2 + s2/s1, angles only), extended MIPS
 ///    (Degener et al. 2003: MIPS times (s1 s2 + 1/(s1 s2))^theta, theta = 3 as the paper's
 ///    comparison uses, areas too), and mean value coordinates (Floater 2003: each vertex to the
@@ -149,6 +150,7 @@ class PolycubeParameterizer {
         if (t[k] >= lattice.size())
           throw Error(ErrorKind::InvalidArgument, "polycube parameterization: a triangle refers to a missing vertex");
     buildRings(lattice);
+    colourVertices();
     mNormals.resize(mTexture.size());
     for (std::size_t v = 0; v < mTexture.size(); ++v) mNormals[v] = mSurface.normal(mTexture[v]);
     chooseOrientation();
@@ -360,6 +362,7 @@ class PolycubeParameterizer {
     std::size_t best = flippedCount();
     std::vector<Vec3d> bestTexture = mTexture, bestNormals = mNormals;
     bool regularized = false;
+    mInVertexOrder = true;
     while (best > 0 && sweep < limit) {
       if (sinceBest >= 20) {
         if (regularized) break;
@@ -388,6 +391,7 @@ class PolycubeParameterizer {
       }
     }
     mEpsilon = 0;
+    mInVertexOrder = false;
     mTexture = std::move(bestTexture);
     mNormals = std::move(bestNormals);
     return sweep;
@@ -412,23 +416,20 @@ class PolycubeParameterizer {
 
   /// Every interior vertex to its mean-value target; returns the largest move.
   double meanValueSweep() {
-    double largest = 0;
-    for (std::size_t v = 0; v < mTexture.size(); ++v) {
-      if (mBoundary[v] || mRingStart[v] == mRingStart[v + 1]) continue;
+    return forEachVertexByColour([&](std::size_t v) {
+      if (mBoundary[v]) return 0.0;
       const std::optional<Vec3d> target = meanValueTarget(v);
-      if (!target) continue;
-      largest = std::max(largest, glm::length(*target - mTexture[v]));
+      if (!target) return 0.0;
+      const double move = glm::length(*target - mTexture[v]);
       moveTo(v, *target, mSurface.normal(*target));
-    }
-    return largest;
+      return move;
+    });
   }
 
   /// One descent step per vertex (see the file comment); returns the largest move.
   double energySweep() {
     updateScale();
-    double largest = 0;
-    for (std::size_t v = 0; v < mTexture.size(); ++v) {
-      if (mRingStart[v] == mRingStart[v + 1]) continue;
+    return forEachVertexByColour([&](std::size_t v) {
       RingEnergy current = ringEnergy(v, mTexture[v], mNormals[v]);
       const Vec3d start = mTexture[v];
       if (current.flipped > 0)
@@ -441,8 +442,56 @@ class PolycubeParameterizer {
           }
         }
       descend(v, current);
-      largest = std::max(largest, glm::length(mTexture[v] - start));
+      return glm::length(mTexture[v] - start);
+    });
+  }
+
+  /// Colours the vertices so that no two neighbours share one (greedy, in vertex order): a
+  /// vertex's update reads only its neighbours and writes only itself, so the vertices of one
+  /// colour update in parallel, and the result does not depend on the thread count.
+  void colourVertices() {
+    const std::size_t n = mTexture.size();
+    std::vector<std::uint32_t> colour(n, 0);
+    std::vector<std::uint8_t> taken;
+    std::uint32_t colours = 0;
+    for (std::size_t v = 0; v < n; ++v) {
+      taken.assign(colours + 1, 0);
+      for (std::size_t k = mNeighbourStart[v]; k < mNeighbourStart[v + 1]; ++k) {
+        const std::uint32_t w = mNeighbours[k].first;
+        if (w < v && colour[w] < taken.size()) taken[colour[w]] = 1;
+      }
+      std::uint32_t c = 0;
+      while (taken[c]) ++c;
+      colour[v] = c;
+      colours = std::max(colours, c + 1);
     }
+    mColourStart.assign(colours + 1, 0);
+    for (std::size_t v = 0; v < n; ++v)
+      if (mRingStart[v] != mRingStart[v + 1]) ++mColourStart[colour[v] + 1];
+    for (std::uint32_t c = 0; c < colours; ++c) mColourStart[c + 1] += mColourStart[c];
+    mByColour.resize(mColourStart[colours]);
+    std::vector<std::size_t> fill(mColourStart.begin(), mColourStart.end() - 1);
+    for (std::size_t v = 0; v < n; ++v)
+      if (mRingStart[v] != mRingStart[v + 1]) mByColour[fill[colour[v]]++] = std::uint32_t(v);
+    mMoves.assign(n, 0.0);
+  }
+
+  /// Calls update(v) for every vertex with triangles, colour by colour, each colour in
+  /// parallel; returns the largest value update returned (the largest move).
+  template <class Update>
+  double forEachVertexByColour(Update&& update) {
+    if (mInVertexOrder) {
+      double largest = 0;
+      for (std::size_t v = 0; v < mTexture.size(); ++v)
+        if (mRingStart[v] != mRingStart[v + 1]) largest = std::max(largest, update(v));
+      return largest;
+    }
+    for (std::size_t c = 0; c + 1 < mColourStart.size(); ++c)
+      parallelFor(mColourStart[c], mColourStart[c + 1], [&](std::size_t i) {
+        mMoves[mByColour[i]] = update(std::size_t(mByColour[i]));
+      }, 64);
+    double largest = 0;
+    for (std::uint32_t v : mByColour) largest = std::max(largest, mMoves[v]);
     return largest;
   }
 
@@ -525,6 +574,13 @@ class PolycubeParameterizer {
   std::vector<std::size_t> mNeighbourStart;
   std::vector<std::pair<std::uint32_t, double>> mNeighbours;  ///< with their mean value weights
   std::vector<std::uint8_t> mBoundary;
+  std::vector<std::size_t> mColourStart;
+  std::vector<std::uint32_t> mByColour;  ///< vertices with triangles, colour by colour
+  std::vector<double> mMoves;            ///< each vertex's move in the last sweep
+  /// Untangling sweeps run in vertex order, one vertex after the other: a mesh's vertex order is
+  /// mostly coherent in space, so one sweep carries a change across the mesh, where colour by
+  /// colour it moves one ring per sweep; folds resolve in far fewer sweeps.
+  bool mInVertexOrder = false;
   std::vector<Vec3d> mTexture, mNormals;
   double mOrientation = 1;
   double mScale2 = 1;
