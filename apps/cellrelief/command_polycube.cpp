@@ -46,6 +46,28 @@ TriangleMesh surfaceByCase(const polycube::Polycube& p, const polycube::Polycube
   return mesh;
 }
 
+/// The mesh coloured by where the map puts each vertex: the hue says which way the polycube's
+/// face there looks (x red, y green, z blue; darker when it looks the negative way), and a
+/// checker of half cubes (squarelets) in texture space shows how the map stretches. A smooth checker
+/// without folds or jumps on the mesh is a good map.
+TriangleMesh meshByTexture(const TriangleMesh& mesh, std::span<const Vec3d> texture,
+                           const polycube::PolycubeSurface& surface) {
+  TriangleMesh out = mesh;
+  out.colors.resize(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const Vec3d n = surface.normal(texture[v]);
+    const int axis = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0 : std::abs(n.y) >= std::abs(n.z) ? 1 : 2;
+    const Vec3i cell(glm::floor(2.0 * texture[v]));
+    const bool odd = ((cell.x + cell.y + cell.z) & 1) != 0;
+    const double level = (n[axis] > 0 ? 1.0 : 0.6) * (odd ? 1.0 : 0.55);
+    Vec3d rgb(0.25);
+    rgb[axis] = 1.0;
+    rgb *= 255.0 * level;
+    out.colors[v] = Color8{std::uint8_t(rgb.x), std::uint8_t(rgb.y), std::uint8_t(rgb.z), 255};
+  }
+  return out;
+}
+
 /// A given polycube without a frame is placed over the mesh: centred on its bounds, scaled
 /// uniformly so its largest extent is the mesh's.
 polycube::PolycubeFrame fitFrame(const polycube::Polycube& p, const TriangleMesh& mesh) {
@@ -67,11 +89,11 @@ void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& m
     out << "mesh,triangles,cubes,energy,stage,area_distortion,angle_distortion,stretch_efficiency,flipped,sweeps,"
            "seconds\n";
     const std::string name = std::filesystem::path(o.mesh).filename().string();
-    for (const auto& [stage, d] : {std::pair{"projected", map.initial}, std::pair{"optimized", map.final}})
+    for (const auto& [stage, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
       out << name << ',' << mesh.triangleCount() << ',' << cubes.size() << ',' << o.energy << ',' << stage << ','
           << d.area << ',' << d.angle << ',' << d.stretchEfficiency << ',' << d.flipped << ','
-          << (stage == std::string("projected") ? 0 : map.sweeps) << ','
-          << (stage == std::string("projected") ? 0.0 : map.seconds) << '\n';
+          << (stage == std::string("start") ? 0 : map.sweeps) << ','
+          << (stage == std::string("start") ? 0.0 : map.seconds) << '\n';
     out.flush();
     if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
   }
@@ -142,7 +164,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
                 map.coarseSweeps);
   std::printf("map           %s, %d sweeps, %.2f s\n", o.energy.c_str(), map.sweeps, map.seconds);
   std::printf("distortion    %-9s %8s %8s %10s %8s\n", "", "area", "angle", "stretch", "flipped");
-  for (const auto& [name, d] : {std::pair{"projected", map.initial}, std::pair{"optimized", map.final}})
+  for (const auto& [name, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
     std::printf("              %-9s %8.4f %8.4f %10.3f %8zu\n", name, d.area, d.angle, d.stretchEfficiency, d.flipped);
   if (map.final.flipped > 0)
     throw Error(ErrorKind::InvalidInput, o.mesh,
@@ -158,10 +180,12 @@ int runPolycube(const PolycubeCommandOptions& o) {
   io::writeMesh(surface, dir / "polycube_surface.ply");
   writePreview(surface, dir / "polycube_cases.png");
   polycube::writeTexturedMesh(mesh, map.texture, dir / "mesh_texture.obj");
+  writePreview(meshByTexture(mesh, map.texture, domain), dir / "polycube_map.png");
   writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "
               "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple), mesh_texture.obj (vt: texture "
-              "positions in lattice coordinates), distortion.csv\n", dir.string().c_str());
+              "positions in lattice coordinates), polycube_map.png (the mesh coloured by its map: hue by the face's "
+              "direction, a checker of squarelets), distortion.csv\n", dir.string().c_str());
   return 0;
 }
 

@@ -116,7 +116,7 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   for (const char* words : {"chosen N = 10", "genus 3 (mesh: 3)", "vertex cases", "5:", "optimized", "extended-mips"})
     EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
   for (const char* file :
-       {"polycube.txt", "polycube_surface.ply", "polycube_cases.png", "mesh_texture.obj", "distortion.csv"})
+       {"polycube.txt", "polycube_surface.ply", "polycube_cases.png", "mesh_texture.obj", "distortion.csv", "polycube_map.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "auto" / file)) << file;
   // The map: one texture position per vertex, and the table's rows with no flipped triangle left.
   const std::string obj = test::readBytes(dir / "auto" / "mesh_texture.obj");

@@ -75,7 +75,7 @@ struct ParameterizationOptions {
 
 struct PolycubeParameterization {
   std::vector<Vec3d> texture;  ///< per mesh vertex: lattice coordinates on the polycube's surface
-  Distortion initial;          ///< after the projection along normals
+  Distortion initial;          ///< where optimization starts: the normal projection or the coarse map
   Distortion final;
   int sweeps = 0;
   std::size_t byClosestPoint = 0;  ///< vertices no face was within reach of along the normal
