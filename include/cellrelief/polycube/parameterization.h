@@ -98,6 +98,9 @@ inline std::vector<Vec3d> latticePositions(const TriangleMesh& mesh, const Polyc
 inline std::vector<Vec3d> projectAlongNormals(const TriangleMesh& mesh, std::span<const Vec3d> lattice,
                                               const PolycubeSurface& surface, std::size_t* byClosestPoint = nullptr,
                                               double reach = 2.0) {
+  mesh.validate("polycube projection");
+  if (lattice.size() != mesh.positions.size())
+    throw Error(ErrorKind::InvalidArgument, "polycube projection: one lattice position per vertex is needed");
   const TriangleMesh cubes = surface.polycube().surfaceMesh();  // lattice units: exact integers
   const std::vector<Vec3d> corners(cubes.positions.begin(), cubes.positions.end());
   const TriangleBvh<double> bvh(corners, cubes.triangles);
@@ -595,6 +598,7 @@ inline PolycubeParameterization parameterize(const TriangleMesh& mesh, const Pol
   const auto start = std::chrono::steady_clock::now();
   if (mesh.triangles.empty())
     throw Error(ErrorKind::InvalidArgument, "polycube parameterization: the mesh has no triangles");
+  mesh.validate("polycube parameterization");  // indices and coordinates, before anything reads them
   const std::vector<Vec3d> lattice = latticePositions(mesh, frame);
   PolycubeParameterization result;
   std::vector<Vec3d> texture;
