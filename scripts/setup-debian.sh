@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libglm-dev libtbb-dev libopenmesh-dev libstb-dev libpng-dev libcli11-dev nlohmann-json3-dev
   libopenvdb-dev libboost-iostreams-dev
-  libceres-dev libcgal-dev libembree-dev
+  libceres-dev libcgal-dev libeigen3-dev libembree-dev
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libglfw3-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
   xvfb xauth
