@@ -7,7 +7,6 @@
 /// by vertex case (PLY) and a picture of that, the mesh with its texture positions (OBJ) and the
 /// distortion table (CSV). Nothing is written unless every check passes.
 #include <cstdio>
-#include <fstream>
 #include <memory>
 
 #include <cellrelief/io/mesh_io.h>
@@ -82,22 +81,18 @@ polycube::PolycubeFrame fitFrame(const polycube::Polycube& p, const TriangleMesh
 /// The paper's Table 1 columns for this map, before and after optimization.
 void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& mesh, const polycube::Polycube& cubes,
                           const polycube::PolycubeParameterization& map, const std::filesystem::path& path) {
-  io::AtomicFile atomic(path);
-  {
-    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
-    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+  io::writeTextAtomically(path, [&](std::ostream& out) {
     out << "mesh,triangles,cubes,energy,stage,area_distortion,angle_distortion,stretch_efficiency,flipped,sweeps,"
            "seconds\n";
     const std::string name = std::filesystem::path(o.mesh).filename().string();
-    for (const auto& [stage, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
+    const auto row = [&](const char* stage, const polycube::Distortion& d, int sweeps, double seconds) {
       out << name << ',' << mesh.triangleCount() << ',' << cubes.size() << ',' << o.energy << ',' << stage << ','
-          << d.area << ',' << d.angle << ',' << d.stretchEfficiency << ',' << d.flipped << ','
-          << (stage == std::string("start") ? 0 : map.sweeps) << ','
-          << (stage == std::string("start") ? 0.0 : map.seconds) << '\n';
-    out.flush();
-    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
-  }
-  atomic.commit();
+          << d.area << ',' << d.angle << ',' << d.stretchEfficiency << ',' << d.flipped << ',' << sweeps << ','
+          << seconds << '\n';
+    };
+    row("start", map.initial, 0, 0.0);
+    row("optimized", map.final, map.sweeps, map.seconds);
+  });
 }
 
 int runPolycube(const PolycubeCommandOptions& o) {

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -53,5 +54,20 @@ class AtomicFile {
   std::filesystem::path mTemporary;
   bool mCommitted = false;
 };
+
+/// Writes a text file atomically: `write(out)` fills the stream, then the file is checked and
+/// renamed into place; on any failure the target is left as it was.
+template <class Write>
+void writeTextAtomically(const std::filesystem::path& path, Write&& write) {
+  AtomicFile atomic(path);
+  {
+    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
+    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+    write(out);
+    out.flush();
+    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
+  }
+  atomic.commit();
+}
 
 }  // namespace cellrelief::io

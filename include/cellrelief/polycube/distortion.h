@@ -63,14 +63,29 @@ struct TriangleStretch {
   double signedArea = 0;
 };
 
+/// One triangle's affine map from the mesh to the texture: the columns of its Jacobian J (3 x 2,
+/// on the frame's 2D coordinates) and the texture triangle's unnormalized normal f1 x f2.
+struct TriangleJacobian {
+  Vec3d column0{0.0}, column1{0.0}, cross{0.0};
+
+  TriangleJacobian(const TriangleFrame& frame, const Vec3d& u0, const Vec3d& u1, const Vec3d& u2) {
+    const Vec3d f1 = u1 - u0, f2 = u2 - u0;
+    column0 = f1 * frame.inverse[0][0] + f2 * frame.inverse[1][0];
+    column1 = f1 * frame.inverse[0][1] + f2 * frame.inverse[1][1];
+    cross = glm::cross(f1, f2);
+  }
+  double frobenius2() const { return glm::dot(column0, column0) + glm::dot(column1, column1); }
+  /// The texture triangle's area, negative when it does not face `outward`.
+  double signedArea(const Vec3d& outward) const {
+    const double area = 0.5 * glm::length(cross);
+    return glm::dot(cross, outward) > 0 ? area : -area;
+  }
+};
+
 inline TriangleStretch triangleStretch(const TriangleFrame& frame, const Vec3d& u0, const Vec3d& u1, const Vec3d& u2,
                                        const Vec3d& outward) {
-  const Vec3d f1 = u1 - u0, f2 = u2 - u0;
-  const Vec3d column0 = f1 * frame.inverse[0][0] + f2 * frame.inverse[1][0];
-  const Vec3d column1 = f1 * frame.inverse[0][1] + f2 * frame.inverse[1][1];
-  const Vec3d c = glm::cross(f1, f2);
-  const double area = 0.5 * glm::length(c);
-  return {glm::dot(column0, column0) + glm::dot(column1, column1), glm::dot(c, outward) > 0 ? area : -area};
+  const TriangleJacobian j(frame, u0, u1, u2);
+  return {j.frobenius2(), j.signedArea(outward)};
 }
 
 /// The measures over a whole map; `outward(i)` gives triangle i's outward direction.

@@ -174,7 +174,7 @@ class PolycubeParameterizer {
     for (int round = 0; round < 3; ++round) {
       sweep = untangle(options, sweep);
       sweep = settle(options, sweep);
-      if (flippedCount() == 0 || options.energy == PolycubeEnergy::MeanValue) break;
+      if (survey().flipped == 0 || options.energy == PolycubeEnergy::MeanValue) break;
     }
     return sweep;
   }
@@ -183,11 +183,11 @@ class PolycubeParameterizer {
   /// Sweeps of the chosen energy until a sweep changes little (options.stopChange) or
   /// options.maxSweeps ran; `sweep` counts on from where it was.
   int settle(const ParameterizationOptions& options, int sweep) {
-    double before = totalEnergy();
+    double before = survey().energy;
     for (int limit = sweep + options.maxSweeps; sweep < limit;) {
       ++sweep;
       const double largestMove = options.energy == PolycubeEnergy::MeanValue ? meanValueSweep() : energySweep();
-      const double after = totalEnergy();
+      const double after = survey().energy;
       if (options.progress) options.progress(sweep, distortion());
       const bool settled = options.energy == PolycubeEnergy::MeanValue ? largestMove < options.stopChange
                                                                        : before - after < options.stopChange * before;
@@ -282,22 +282,6 @@ class PolycubeParameterizer {
     if (signedArea < 0) mOrientation = -1;
   }
 
-  /// Texture area per unit of mesh area over the unflipped triangles: the scale at which the
-  /// energies compare areas.
-  void updateScale() {
-    double mesh = 0, texture = 0;
-    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
-      if (mFrames[i].degenerate()) continue;
-      const Vec3u& t = mTriangles[i];
-      const TriangleStretch s = triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i));
-      if (s.signedArea > 0) {
-        mesh += mFrames[i].area;
-        texture += s.signedArea;
-      }
-    }
-    mScale2 = mesh > 0 && texture > 0 ? texture / mesh : 1.0;
-  }
-
   /// One triangle's energy, area-weighted; infinity when it is flipped or flat, unless the
   /// untangling regularization is on: then s1 s2 is replaced by (D + sqrt(eps^2 + D^2)) / 2,
   /// positive for every triangle and close to D where D >> eps (Garanzha et al. 2021,
@@ -331,28 +315,36 @@ class PolycubeParameterizer {
     return e;
   }
 
-  double totalEnergy() {
-    updateScale();
-    double sum = 0;
-    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
-      if (mFrames[i].degenerate()) continue;
-      const Vec3u& t = mTriangles[i];
-      const double e = triangleEnergy(mFrames[i], triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]],
-                                                                  mTexture[t[2]], outward(i)));
-      if (std::isfinite(e)) sum += e;
-    }
-    return sum;
-  }
+  struct Survey {
+    std::size_t flipped = 0;  ///< flipped or flat triangles
+    double energy = 0;        ///< of the others
+  };
 
-  std::size_t flippedCount() const {
-    std::size_t flipped = 0;
+  /// One pass over the triangles at the current positions: the flipped ones, the area scale
+  /// (texture area per unit of mesh area over the others, which the energies compare areas at
+  /// until the next survey) and the total energy.
+  Survey survey() {
+    std::vector<TriangleStretch> stretch(mTriangles.size());
+    Survey result;
+    double mesh = 0, texture = 0;
     for (std::size_t i = 0; i < mTriangles.size(); ++i) {
       if (mFrames[i].degenerate()) continue;
       const Vec3u& t = mTriangles[i];
-      if (!(triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i)).signedArea > 0))
-        ++flipped;
+      stretch[i] = triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i));
+      if (stretch[i].signedArea > 0) {
+        mesh += mFrames[i].area;
+        texture += stretch[i].signedArea;
+      } else {
+        ++result.flipped;
+      }
     }
-    return flipped;
+    mScale2 = mesh > 0 && texture > 0 ? texture / mesh : 1.0;
+    for (std::size_t i = 0; i < mTriangles.size(); ++i) {
+      if (mFrames[i].degenerate()) continue;
+      const double e = triangleEnergy(mFrames[i], stretch[i]);
+      if (std::isfinite(e)) result.energy += e;
+    }
+    return result;
   }
 
   /// Untangles the folds normal projection leaves at the polycube's concave creases and where
@@ -362,7 +354,7 @@ class PolycubeParameterizer {
   int untangle(const ParameterizationOptions& options, int sweep) {
     int sinceBest = 0;
     const int limit = sweep + options.maxSweeps;
-    std::size_t best = flippedCount();
+    std::size_t best = survey().flipped;
     std::vector<Vec3d> bestTexture = mTexture, bestNormals = mNormals;
     bool regularized = false;
     mInVertexOrder = true;
@@ -374,6 +366,7 @@ class PolycubeParameterizer {
         sinceBest = 0;
         mTexture = bestTexture;
         mNormals = bestNormals;
+        survey();  // the area scale of the restored positions
       }
       ++sweep;
       if (regularized) {
@@ -382,7 +375,7 @@ class PolycubeParameterizer {
       } else {
         meanValueSweep();
       }
-      const std::size_t flipped = flippedCount();
+      const std::size_t flipped = survey().flipped;
       if (options.progress) options.progress(sweep, distortion());
       if (flipped < best) {
         best = flipped;
@@ -429,9 +422,9 @@ class PolycubeParameterizer {
     });
   }
 
-  /// One descent step per vertex (see the file comment); returns the largest move.
+  /// One descent step per vertex (see the file comment), at the area scale of the last survey,
+  /// which every caller takes on the positions the sweep starts from; returns the largest move.
   double energySweep() {
-    updateScale();
     return forEachVertexByColour([&](std::size_t v) {
       RingEnergy current = ringEnergy(v, mTexture[v], mNormals[v]);
       const Vec3d start = mTexture[v];
@@ -514,17 +507,14 @@ class PolycubeParameterizer {
       const Vec3u& t = mTriangles[i];
       const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
       const Vec3d u0 = mTexture[t[0]], u1 = mTexture[t[1]], u2 = mTexture[t[2]];
-      const Vec3d f1 = u1 - u0, f2 = u2 - u0;
-      const Vec3d column0 = f1 * frame.inverse[0][0] + f2 * frame.inverse[1][0];
-      const Vec3d column1 = f1 * frame.inverse[0][1] + f2 * frame.inverse[1][1];
+      const TriangleJacobian j(frame, u0, u1, u2);
       const Vec2d g1(frame.inverse[0][0], frame.inverse[0][1]), g2(frame.inverse[1][0], frame.inverse[1][1]);
       const Vec2d gk = k == 0 ? -(g1 + g2) : k == 1 ? g1 : g2;
-      const Vec3d c = glm::cross(f1, f2);
-      const double length = glm::length(c);
+      const double length = glm::length(j.cross);
       if (!(length > 0)) continue;
-      const double sign = glm::dot(c, outward(i)) > 0 ? 1.0 : -1.0;
+      const double sign = glm::dot(j.cross, outward(i)) > 0 ? 1.0 : -1.0;
       const double area = sign * 0.5 * length;
-      const double frobenius2 = glm::dot(column0, column0) + glm::dot(column1, column1);
+      const double frobenius2 = j.frobenius2();
       double d = area / (frame.area * mScale2), dd = 1;  // dd: the regularization's derivative
       if (mEpsilon > 0) {
         const double root = std::sqrt(mEpsilon * mEpsilon + d * d);
@@ -537,10 +527,10 @@ class PolycubeParameterizer {
       const double angle = frobenius2 / (mScale2 * d);
       const double dEdF = frame.area * q / (mScale2 * d);
       const double dEdd = frame.area * (-angle / d * q + angle * dQ);
-      const Vec3d dF = 2.0 * (column0 * gk.x + column1 * gk.y);
+      const Vec3d dF = 2.0 * (j.column0 * gk.x + j.column1 * gk.y);
       const Vec3d& next = k == 0 ? u1 : k == 1 ? u2 : u0;
       const Vec3d& after = k == 0 ? u2 : k == 1 ? u0 : u1;
-      const Vec3d dX = sign * 0.5 * glm::cross(c / length, after - next);
+      const Vec3d dX = sign * 0.5 * glm::cross(j.cross / length, after - next);
       gradient += dEdF * dF + dEdd * dd / (frame.area * mScale2) * dX;
     }
     return gradient;

@@ -111,29 +111,20 @@ inline PolycubeFile readPolycube(const std::filesystem::path& path) {
 }
 
 inline void writePolycube(const Polycube& polycube, const PolycubeFrame& frame, const std::filesystem::path& path) {
-  io::AtomicFile atomic(path);
-  {
-    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
-    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+  io::writeTextAtomically(path, [&](std::ostream& out) {
     out.precision(17);
     out << "# cellrelief polycube: one unit cube per line, its minimum corner on the integer lattice\n"
         << "frame " << frame.origin.x << ' ' << frame.origin.y << ' ' << frame.origin.z << ' ' << frame.cubeSize
         << '\n';
     for (const Vec3i& c : polycube.cubes()) out << c.x << ' ' << c.y << ' ' << c.z << '\n';
-    out.flush();
-    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
-  }
-  atomic.commit();
+  });
 }
 
 inline void writeTexturedMesh(const TriangleMesh& mesh, std::span<const Vec3d> texture,
                               const std::filesystem::path& path) {
   if (texture.size() != mesh.positions.size())
     throw Error(ErrorKind::InvalidArgument, path, "one texture position per vertex is needed");
-  io::AtomicFile atomic(path);
-  {
-    std::ofstream out(atomic.temporaryPath(), std::ios::binary);
-    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
+  io::writeTextAtomically(path, [&](std::ostream& out) {
     out.precision(9);
     out << "# cellrelief polycube map: vt u v w is each vertex's texture position in the polycube's lattice\n";
     for (const Vec3f& p : mesh.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
@@ -142,10 +133,7 @@ inline void writeTexturedMesh(const TriangleMesh& mesh, std::span<const Vec3d> t
     for (const Vec3u& t : mesh.triangles)
       out << "f " << t[0] + 1 << '/' << t[0] + 1 << ' ' << t[1] + 1 << '/' << t[1] + 1 << ' ' << t[2] + 1 << '/'
           << t[2] + 1 << '\n';
-    out.flush();
-    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
-  }
-  atomic.commit();
+  });
 }
 
 }  // namespace cellrelief::polycube

@@ -40,13 +40,9 @@ class PolycubeSurface {
   /// lattice vertex. Meant for points within half a cube of the surface; nothing when that cell
   /// holds no surface (the point is deep inside or outside).
   std::optional<Vec3d> project(const Vec3d& p) const {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return std::nullopt;
-    const Vec3d nearest = glm::floor(p + Vec3d(0.5));
-    if (glm::any(glm::greaterThan(glm::abs(nearest), Vec3d(Polycube::kMaxCoordinate)))) return std::nullopt;
-    const Vec3i vertex(nearest);
-    const LutEntry& entry = mLut.at(vertex);
-    if (entry.empty()) return std::nullopt;
-    return Vec3d(vertex) + polycube::project(entry.configuration, p - Vec3d(vertex));
+    const std::optional<Vec3i> vertex = nearestSurfaceVertex(p);
+    if (!vertex) return std::nullopt;
+    return Vec3d(*vertex) + polycube::project(mLut.at(*vertex).configuration, p - Vec3d(*vertex));
   }
 
   /// The outward unit normal at a surface point: the face's inside a face; on an edge or at a
@@ -62,16 +58,22 @@ class PolycubeSurface {
   }
 
  private:
+  /// The lattice vertex nearest to p, if its dual cell holds surface.
+  std::optional<Vec3i> nearestSurfaceVertex(const Vec3d& p) const {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return std::nullopt;
+    const Vec3d nearest = glm::floor(p + Vec3d(0.5));
+    if (glm::any(glm::greaterThan(glm::abs(nearest), Vec3d(Polycube::kMaxCoordinate)))) return std::nullopt;
+    if (mLut.at(Vec3i(nearest)).empty()) return std::nullopt;
+    return Vec3i(nearest);
+  }
+
   /// The sum of the outward normals of the squarelets of p's nearest vertex that hold p.
   Vec3d faceNormalSum(const Vec3d& p, double tolerance) const {
     Vec3d sum(0.0);
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return sum;
-    const Vec3d nearest = glm::floor(p + Vec3d(0.5));
-    if (glm::any(glm::greaterThan(glm::abs(nearest), Vec3d(Polycube::kMaxCoordinate)))) return sum;
-    const Vec3i vertex(nearest);
-    const LutEntry& entry = mLut.at(vertex);
-    if (entry.empty()) return sum;
-    const Vec3d d = p - nearest;
+    const std::optional<Vec3i> vertex = nearestSurfaceVertex(p);
+    if (!vertex) return sum;
+    const LutEntry& entry = mLut.at(*vertex);
+    const Vec3d d = p - Vec3d(*vertex);
     const std::uint16_t squarelets = entry.squarelets();
     for (int axis = 0; axis < 3; ++axis) {
       if (std::abs(d[axis]) > tolerance) continue;
