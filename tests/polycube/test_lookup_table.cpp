@@ -13,22 +13,9 @@
 namespace cellrelief::polycube {
 namespace {
 
-/// Manifold polycubes of every case: a box, a ring, two rings, and repaired random cube sets.
+/// Manifold polycubes of every case: shapes drawn by hand and repaired random cube sets.
 std::vector<Polycube> testPolycubes() {
-  std::vector<Polycube> out;
-  std::vector<Vec3i> box, ring, twoRings;
-  for (int z = 0; z < 2; ++z)
-    for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x) box.push_back({x, y, z});
-  for (int y = 0; y < 3; ++y)
-    for (int x = 0; x < 3; ++x)
-      if (x != 1 || y != 1) ring.push_back({x, y, 0});
-  for (int y = 0; y < 3; ++y)
-    for (int x = 0; x < 5; ++x)
-      if (y != 1 || (x != 1 && x != 3)) twoRings.push_back({x, y, 0});
-  out.emplace_back(box);
-  out.emplace_back(ring);
-  out.emplace_back(twoRings);
+  std::vector<Polycube> out = fixtures::shapedPolycubes();
   for (Polycube& p : fixtures::randomManifoldPolycubes(20)) out.push_back(std::move(p));
   return out;
 }

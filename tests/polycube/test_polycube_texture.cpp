@@ -18,15 +18,7 @@ constexpr float kQuantum = 1.0f / 255.0f;
 /// Polycubes with flat, convex and concave edges and every case but 6b (which P refuses).
 std::vector<std::shared_ptr<const PolycubeSurface>> testSurfaces() {
   std::vector<std::shared_ptr<const PolycubeSurface>> out;
-  std::vector<Vec3i> box, ring, plus;
-  for (int z = 0; z < 2; ++z)
-    for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x) box.push_back({x, y, z});
-  for (int y = 0; y < 3; ++y)
-    for (int x = 0; x < 3; ++x)
-      if (x != 1 || y != 1) ring.push_back({x, y, 0});
-  plus = {{0, 0, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (const auto& cubes : {box, ring, plus}) out.push_back(std::make_shared<PolycubeSurface>(Polycube(cubes)));
+  for (Polycube& p : fixtures::shapedPolycubes()) out.push_back(std::make_shared<PolycubeSurface>(std::move(p)));
   for (Polycube& p : fixtures::randomManifoldPolycubes(6, 23)) {
     removeVerticesOfCase(p, VertexCase::k6b, [](const Vec3i&) { return 0.5; });
     if (verticesOfCase(p, VertexCase::k6b).empty()) out.push_back(std::make_shared<PolycubeSurface>(std::move(p)));
