@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
 /// @file scene.h
-/// What a backend renders: relief models placed in world space and the lights that shade them.
-/// The scene holds models by shared pointer so that one converted model can be uploaded to several
-/// backends (the backend-switching tests render the same scene on each) without copies.
+/// What a backend renders: relief models and polycube-mapped meshes placed in world space, and
+/// the lights that shade them. The scene holds them by shared pointer so that one converted model
+/// can be uploaded to several backends (the backend-switching tests render the same scene on
+/// each) without copies.
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "cellrelief/core/aabb.h"
+#include "cellrelief/polycube/textured_mesh.h"
 #include "cellrelief/relief/relief_model.h"
 
 namespace cellrelief::render {
@@ -22,6 +24,7 @@ struct DirectionalLight {
 
 struct Scene {
   std::vector<std::shared_ptr<const relief::ReliefModel>> models;
+  std::vector<std::shared_ptr<const polycube::TexturedMesh>> polycubeMeshes;
   std::vector<DirectionalLight> lights = std::vector<DirectionalLight>(1);  ///< one default light
   Vec3f ambient{0.18f};
   Vec4f background{1.0f, 1.0f, 1.0f, 0.0f};  ///< RGBA of pixels that hit nothing
@@ -33,12 +36,17 @@ struct Scene {
     return scene;
   }
 
-  /// The union of the models' grids (world space).
+  /// The union of the models' grids and the meshes' bounds (world space).
   Aabbd boundsWS() const {
     Aabbd box;
     for (const auto& m : models) {
       box.extend(m->originWS);
       box.extend(m->originWS + Vec3d(m->cellSizeWS * m->gridSize));
+    }
+    for (const auto& m : polycubeMeshes) {
+      const Aabbf b = m->mesh.bounds();
+      box.extend(Vec3d(b.min));
+      box.extend(Vec3d(b.max));
     }
     return box;
   }

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @file cpu_backend.h
-/// The reference renderer and the embedded default: the traversal headers (trace/relief_tracer.h)
-/// run over TBB tiles of 16 x 16 pixels, in float as a GPU runs them. The GPU backends implement
+/// The reference renderer and the embedded default: the traversal headers (trace/relief_tracer.h,
+/// trace/polycube_tracer.h) run over TBB tiles of 16 x 16 pixels, in float as a GPU runs them. The GPU backends implement
 /// the same algorithm from the same constants, and their images are compared against this one.
 ///
 /// Shading is deliberately plain so that backends can match it exactly: the hit's color (the
-/// model's color map, or a neutral grey) times ambient plus Lambert over the directional lights,
+/// model's color map, a polycube mesh's T2, or a neutral grey) times ambient plus Lambert over the directional lights,
 /// each gated by a shadow ray; optional mirror bounces mixed in by RenderOptions::reflectivity;
 /// display gamma 2.2. The normal buffer holds the shading normal turned towards the viewer.
 #pragma once
@@ -22,6 +22,7 @@
 #include <tbb/task_arena.h>
 
 #include "cellrelief/render/backend.h"
+#include "cellrelief/trace/polycube_tracer.h"
 #include "cellrelief/trace/relief_tracer.h"
 
 namespace cellrelief::cpu {
@@ -39,7 +40,10 @@ class CpuBackend final : public render::Backend {
   }
 
   void upload(const render::Scene& scene) override {
+    std::vector<std::unique_ptr<trace::PolycubeTracer>> meshTracers;
+    for (const auto& m : scene.polycubeMeshes) meshTracers.push_back(std::make_unique<trace::PolycubeTracer>(m));
     mScene = scene;
+    mMeshTracers = std::move(meshTracers);
     mTraceOptions.reset();
     mTracers.clear();
   }
@@ -71,31 +75,53 @@ class CpuBackend final : public render::Backend {
     std::size_t bytes = 0;
     for (const auto& m : mScene.models) bytes += m->byteSize();
     for (const auto& t : mTracers) bytes += t->accelerationBytes();
+    for (const auto& t : mMeshTracers)
+      bytes += t->accelerationBytes() + t->mesh().t2->byteSize() +
+               t->mesh().t2->surface().lut().entries().size() * sizeof(polycube::LutEntry);
     return bytes;
   }
 
-  /// The nearest hit over the scene's models (world space), for secondary rays and tests.
+  /// The nearest hit over the scene's models and polycube meshes (world space), for secondary
+  /// rays and tests. A mesh hit fills hit.t, position and normal (hit.cell stays -1).
   struct SceneHit {
     Tracer::Hit hit;
+    Vec3f base{0};  ///< the base colour, 0..1
     int model = -1;
+    int mesh = -1;
     std::uint32_t steps = 0;  ///< over every model's search, hit or miss
-    bool valid() const { return model >= 0; }
+    bool valid() const { return model >= 0 || mesh >= 0; }
   };
-  SceneHit intersect(const Rayf& ray) const {
+  /// `spread`: the ray's cone in world units per unit of distance, for texture filtering.
+  SceneHit intersect(const Rayf& ray, float spread = 0) const {
     SceneHit best;
     std::uint32_t steps = 0;
+    const auto clipped = [&] {
+      Rayf r = ray;
+      if (best.valid()) r.tmax = best.hit.t;
+      return r;
+    };
     for (std::size_t i = 0; i < mTracers.size(); ++i) {
-      Rayf clipped = ray;
-      if (best.valid()) clipped.tmax = best.hit.t;
-      Tracer::Hit h = mTracers[i]->intersect(clipped);
+      Tracer::Hit h = mTracers[i]->intersect(clipped());
       steps += h.steps;
-      if (h.valid() && (!best.valid() || h.t < best.hit.t)) best = {h, int(i)};
+      if (h.valid() && (!best.valid() || h.t < best.hit.t)) best = {h, Vec3f(h.color) / 255.0f, int(i), -1};
+    }
+    for (std::size_t i = 0; i < mMeshTracers.size(); ++i) {
+      const trace::PolycubeTracer::Hit h = mMeshTracers[i]->intersect(clipped(), spread);
+      if (!h.valid() || (best.valid() && h.t >= best.hit.t)) continue;
+      best = SceneHit{};
+      best.hit.t = h.t;
+      best.hit.position = h.position;
+      best.hit.normal = h.normal;
+      best.base = h.color;
+      best.mesh = int(i);
     }
     best.steps = steps;
     return best;
   }
   bool occluded(const Rayf& ray) const {
     for (const auto& t : mTracers)
+      if (t->occluded(ray)) return true;
+    for (const auto& t : mMeshTracers)
       if (t->occluded(ray)) return true;
     return false;
   }
@@ -112,16 +138,18 @@ class CpuBackend final : public render::Backend {
  private:
   /// A secondary ray starts this far off the surface (world units): two sample spacings of the
   /// model it left, past the reach of its own reconstruction error.
-  float surfaceOffset(int model) const {
-    const relief::ReliefModel& m = *mScene.models[std::size_t(model)];
+  float surfaceOffset(const SceneHit& sh) const {
+    if (sh.mesh >= 0) return mMeshTracers[std::size_t(sh.mesh)]->surfaceOffset();
+    const relief::ReliefModel& m = *mScene.models[std::size_t(sh.model)];
     return float(double(trace::constants::kSurfaceOffsetSamples) * m.cellSizeWS / std::max(1, m.texels - 1));
   }
 
-  Vec3f shade(const Rayf& ray, const SceneHit& sh, Vec3f normal,
-              const render::RenderOptions& options, int depth) const {
-    const Vec3f base = Vec3f(sh.hit.color) / 255.0f;
+  /// `spread`: the primary ray's cone, which a mirror ray keeps (a flat mirror's reflection).
+  Vec3f shade(const Rayf& ray, const SceneHit& sh, Vec3f normal, const render::RenderOptions& options, int depth,
+              float spread) const {
+    const Vec3f base = sh.base;
     const Vec3f p = sh.hit.position;
-    const float offset = surfaceOffset(sh.model);
+    const float offset = surfaceOffset(sh);
     Vec3f light = mScene.ambient;
     for (const render::DirectionalLight& l : mScene.lights) {
       const Vec3f towards = glm::normalize(l.direction);
@@ -134,12 +162,18 @@ class CpuBackend final : public render::Backend {
     if (depth < options.reflectionBounces) {
       const Vec3f dir = glm::reflect(glm::normalize(ray.direction), normal);
       const Rayf mirror(p + offset * normal, dir);
-      const SceneHit next = intersect(mirror);
+      const SceneHit next = intersect(mirror, spread);
       Vec3f reflected = Vec3f(mScene.background);
-      if (next.valid()) reflected = shade(mirror, next, facing(next.hit.normal, dir), options, depth + 1);
+      if (next.valid()) reflected = shade(mirror, next, facing(next.hit.normal, dir), options, depth + 1, spread);
       c = glm::mix(c, reflected, options.reflectivity);
     }
     return c;
+  }
+
+  /// One pixel's angle (the image plane's height over its pixels, at distance 1): the cone of a
+  /// primary ray, for texture filtering.
+  static float pixelSpread(const render::Camera::FloatFrame& frame) {
+    return 2.0f * glm::length(frame.up) / float(frame.height);
   }
 
   /// The normal turned towards where the ray came from.
@@ -152,10 +186,11 @@ class CpuBackend final : public render::Backend {
     const int x1 = std::min(options.width, (tx + 1) * kTileSize);
     const int y1 = std::min(options.height, (ty + 1) * kTileSize);
     const render::Camera::FloatFrame frame = camera.floatFrame(options.width, options.height);
+    const float spread = pixelSpread(frame);
     for (int y = ty * kTileSize; y < y1; ++y)
       for (int x = tx * kTileSize; x < x1; ++x) {
         const Rayf ray = frame.ray(x, y);
-        const SceneHit sh = intersect(ray);
+        const SceneHit sh = intersect(ray, spread);
         if (mFrame.has(render::kSteps)) mFrame.steps.at(x, y, 0) = float(sh.steps);
         if (!sh.valid()) {
           if (mFrame.has(render::kColor))
@@ -170,7 +205,7 @@ class CpuBackend final : public render::Backend {
         if (mFrame.has(render::kNormal))
           for (int c = 0; c < 3; ++c) mFrame.normal.at(x, y, c) = n[c];
         if (mFrame.has(render::kColor)) {
-          const Vec3f c = glm::clamp(shade(ray, sh, n, options, 0), Vec3f(0), Vec3f(1));
+          const Vec3f c = glm::clamp(shade(ray, sh, n, options, 0, spread), Vec3f(0), Vec3f(1));
           for (int k = 0; k < 3; ++k)
             mFrame.color.at(x, y, k) = std::uint8_t(std::lround(255.0f * std::pow(c[k], 1.0f / 2.2f)));
           mFrame.color.at(x, y, 3) = 255;
@@ -180,6 +215,7 @@ class CpuBackend final : public render::Backend {
 
   render::Scene mScene;
   std::vector<std::unique_ptr<Tracer>> mTracers;
+  std::vector<std::unique_ptr<trace::PolycubeTracer>> mMeshTracers;
   std::optional<trace::TraceOptions> mTraceOptions;
   render::Frame mFrame;
 };

@@ -71,7 +71,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   void upload(const render::Scene& scene) override {
     mContext->makeCurrent();
     releaseScene();
-    gpu::checkLights(scene, "the OpenGL backend");
+    gpu::checkSupported(scene, "the OpenGL backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
