@@ -1,16 +1,22 @@
 // SPDX-License-Identifier: MIT
 /// @file command_polycube.cpp
-/// `cellrelief polycube <mesh> -o <dir> [--grid N|auto] [--cubes FILE] [--energy E]`: the polycube
-/// texture domain of a mesh (PolyCube-Maps), built automatically or read from a cube file, checked
-/// (closed 2-manifold, one piece, the mesh's genus), the mesh's map onto it (3D texture positions,
-/// without flipped triangles) and its distortion, written as the cube file, its surface coloured
-/// by vertex case (PLY) and a picture of that, the mesh with its texture positions (OBJ) and the
-/// distortion table (CSV). Nothing is written unless every check passes.
+/// `cellrelief polycube <mesh> -o <dir> [--grid N|auto] [--cubes FILE] [--energy E] [--signal S]`:
+/// the polycube texture domain of a mesh (PolyCube-Maps), built automatically or read from a cube
+/// file, checked (closed 2-manifold, one piece, the mesh's genus), the mesh's map onto it (3D
+/// texture positions, without flipped triangles) and its distortion, and a signal baked into T2.
+/// Written: the cube file, its surface coloured by vertex case (PLY) and a picture of that, the
+/// mesh with its texture positions (OBJ), the distortion table (CSV), T2 (PNG, every mip level)
+/// and the mesh rendered with it by the CPU reference (with the normals signal, a decimation of
+/// the mesh too, textured through the same map). Nothing is written unless every step succeeds.
 #include <cstdio>
 #include <memory>
 
+#include <cellrelief/cpu/cpu_backend.h>
+#include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/from_mesh.h>
+#include <cellrelief/polycube/levels_of_detail.h>
+#include <cellrelief/polycube/mesh_signal.h>
 #include <cellrelief/polycube/parameterization.h>
 #include <cellrelief/polycube/polycube_file.h>
 
@@ -22,9 +28,48 @@ namespace cellrelief::app {
 namespace {
 
 struct PolycubeCommandOptions {
-  std::string mesh, output, grid = "auto", cubes, energy = "extended-mips";
+  std::string mesh, output, grid = "auto", cubes, energy = "extended-mips", signal = "grid";
   int sweeps = 400;
+  int texels = 16;
 };
+
+/// T2 of the chosen signal: the paper's grid pattern, or the mesh's normals, shading or colours.
+polycube::PolycubeTexture bakeSignal(const PolycubeCommandOptions& o, const TriangleMesh& mesh,
+                                     std::span<const Vec3d> texture,
+                                     std::shared_ptr<const polycube::PolycubeSurface> surface) {
+  polycube::SurfaceSignal signal;
+  if (o.signal == "grid") {
+    signal = polycube::gridSignalFor(o.texels);
+  } else {
+    std::optional<polycube::MeshSignalKind> kind;
+    for (auto k : {polycube::MeshSignalKind::Normal, polycube::MeshSignalKind::Shading, polycube::MeshSignalKind::Color})
+      if (polycube::toString(k) == o.signal) kind = k;
+    if (!kind) throw Error(ErrorKind::InvalidArgument, "--signal: '" + o.signal + "' is not grid, normals, shading or color");
+    if (*kind == polycube::MeshSignalKind::Color && !mesh.hasColors())
+      throw Error(ErrorKind::InvalidInput, o.mesh, "--signal color: the mesh has no vertex colours");
+    signal = polycube::meshSignal(std::make_shared<const polycube::InverseMap>(mesh, texture), *kind);
+  }
+  return polycube::PolycubeTexture(std::move(surface), signal, {o.texels});
+}
+
+/// The mesh textured through its map, rendered by the CPU reference from the preview's view.
+Image<std::uint8_t> renderTextured(const TriangleMesh& mesh, std::span<const Vec3d> texture,
+                                   std::shared_ptr<const polycube::PolycubeTexture> t2, polycube::TextureUse use) {
+  auto textured = std::make_shared<polycube::TexturedMesh>();
+  textured->mesh = mesh;
+  textured->texture.assign(texture.begin(), texture.end());
+  textured->t2 = std::move(t2);
+  textured->use = use;
+  render::Scene scene;
+  scene.polycubeMeshes.push_back(textured);
+  cpu::CpuBackend cpu;
+  cpu.upload(scene);
+  const Aabbd bounds = scene.boundsWS();
+  render::RenderOptions options;
+  options.width = options.height = 800;
+  options.channels = render::kColor;
+  return cpu.renderFrame(render::Camera::framing(bounds.center(), 0.5 * bounds.diagonal(), 35, 25), options).color;
+}
 
 /// One colour per vertex case, as in the paper's Fig. 11 (cases 3 to 6b).
 constexpr Color8 kVertexCaseColours[polycube::kVertexCaseCount] = {
@@ -141,9 +186,10 @@ int runPolycube(const PolycubeCommandOptions& o) {
 
   const std::optional<polycube::PolycubeEnergy> energy = polycube::parsePolycubeEnergy(o.energy);
   if (!energy) throw Error(ErrorKind::InvalidArgument, "--energy: '" + o.energy + "' is not mvc, mips or extended-mips");
-  const polycube::PolycubeSurface domain = withPath(o.cubes.empty() ? o.mesh : o.cubes, [&] {
-    return polycube::PolycubeSurface(cubes);
+  const auto sharedDomain = withPath(o.cubes.empty() ? o.mesh : o.cubes, [&] {
+    return std::make_shared<const polycube::PolycubeSurface>(cubes);
   });
+  const polycube::PolycubeSurface& domain = *sharedDomain;
   polycube::ParameterizationOptions mapOptions;
   mapOptions.energy = *energy;
   mapOptions.maxSweeps = o.sweeps;
@@ -168,6 +214,27 @@ int runPolycube(const PolycubeCommandOptions& o) {
                     " sweeps: a feature is likely thinner than a cube or the polycube misses it; try another --grid, "
                     "more --sweeps or a polycube of your own (--cubes)");
 
+  const auto t2 = std::make_shared<const polycube::PolycubeTexture>(
+      withPath(o.mesh, [&] { return bakeSignal(o, mesh, map.texture, sharedDomain); }));
+  std::printf("T2            %s, %d texels per squarelet, %u squarelets, %d x %d texels with %d mip levels (%.1f MB)\n",
+              o.signal.c_str(), o.texels, domain.lut().tileCount(), t2->atlas().width(), t2->atlas().height(),
+              t2->levelCount(), t2->byteSize() / 1e6);
+  const std::vector<Vec3d> lattice = polycube::latticePositions(mesh, frame);
+  const polycube::TextureUse use = o.signal == "normals" ? polycube::TextureUse::Normal : polycube::TextureUse::Color;
+  const Image<std::uint8_t> picture = renderTextured(mesh, map.texture, t2, use);
+  Image<std::uint8_t> coarsePicture;
+  TriangleMesh coarse;
+  if (use == polycube::TextureUse::Normal) {
+    // One map, several levels of detail: a decimation takes its texture positions from the
+    // nearest points of the mesh and shows the full mesh's normals.
+    coarse = polycube::decimate(mesh, std::max<std::size_t>(200, mesh.positions.size() / 10));
+    const std::vector<Vec3d> coarseTexture = polycube::transferTexturePositions(
+        lattice, mesh.triangles, map.texture, polycube::latticePositions(coarse, frame), domain);
+    coarsePicture = renderTextured(coarse, coarseTexture, t2, use);
+    std::printf("level of detail %zu of %zu triangles, textured through the same map\n", coarse.triangleCount(),
+                mesh.triangleCount());
+  }
+
   const std::filesystem::path dir(o.output);
   std::filesystem::create_directories(dir);
   polycube::writePolycube(cubes, frame, dir / "polycube.txt");
@@ -177,10 +244,15 @@ int runPolycube(const PolycubeCommandOptions& o) {
   polycube::writeTexturedMesh(mesh, map.texture, dir / "mesh_texture.obj");
   writePreview(meshByTexture(mesh, map.texture, domain), dir / "polycube_map.png");
   writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
+  io::writePng(t2->atlas(), dir / "polycube_texture.png");
+  io::writePng(picture, dir / "polycube_render.png");
+  if (!coarsePicture.isEmpty()) io::writePng(coarsePicture, dir / "polycube_render_lod.png");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "
               "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple), mesh_texture.obj (vt: texture "
               "positions in lattice coordinates), polycube_map.png (the mesh coloured by its map: hue by the face's "
-              "direction, a checker of squarelets), distortion.csv\n", dir.string().c_str());
+              "direction, a checker of squarelets), distortion.csv, polycube_texture.png (T2: a tile per squarelet with a "
+              "border, mip levels below), polycube_render.png (the CPU reference's render)%s\n", dir.string().c_str(),
+              coarsePicture.isEmpty() ? "" : ", polycube_render_lod.png (a decimation, the same map and T2)");
   return 0;
 }
 
@@ -206,6 +278,13 @@ Command addPolycubeCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sweeps", o->sweeps, "Most optimization sweeps over the vertices")
       ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--signal", o->signal,
+                  "What T2 holds: grid (the paper's pattern), normals (the mesh's, which a renderer shades with), "
+                  "shading or color (the mesh's vertex colours)")
+      ->capture_default_str();
+  cmd->add_option("--texels", o->texels, "Texels per squarelet side (S), a power of two")
+      ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64, 128, 256}))
       ->capture_default_str();
   return {cmd, [o]() { return runPolycube(*o); }};
 }

@@ -116,8 +116,10 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   for (const char* words : {"chosen N = 10", "genus 3 (mesh: 3)", "vertex cases", "5:", "optimized", "extended-mips"})
     EXPECT_TRUE(test::hasWords(r.output, words)) << words << " not in " << r.output;
   for (const char* file :
-       {"polycube.txt", "polycube_surface.ply", "polycube_cases.png", "mesh_texture.obj", "distortion.csv", "polycube_map.png"})
+       {"polycube.txt", "polycube_surface.ply", "polycube_cases.png", "mesh_texture.obj", "distortion.csv", "polycube_map.png",
+        "polycube_texture.png", "polycube_render.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "auto" / file)) << file;
+  EXPECT_FALSE(std::filesystem::exists(dir / "auto" / "polycube_render_lod.png")) << "only the normals signal has one";
   // The map: one texture position per vertex, and the table's rows with no flipped triangle left.
   const std::string obj = test::readBytes(dir / "auto" / "mesh_texture.obj");
   std::size_t vertices = 0, textures = 0;
@@ -135,10 +137,19 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   EXPECT_NE(badEnergy.status, 0);
   EXPECT_TRUE(test::hasWords(badEnergy.output, "tutte")) << badEnergy.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "tutte"));
-  // The written cube file is accepted back.
+  for (const auto& [signal, words] : {std::pair{"bumps", "not grid, normals"}, std::pair{"color", "no vertex colours"}}) {
+    const Result badSignal =
+        run("polycube " + mesh.string() + " --signal " + signal + " -o " + (dir / "signal").string());
+    EXPECT_EQ(badSignal.status, 1) << badSignal.output;
+    EXPECT_TRUE(test::hasWords(badSignal.output, words)) << badSignal.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "signal"));
+  }
+  // The written cube file is accepted back; the normals signal renders a level of detail too.
   const Result again = run("polycube " + mesh.string() + " --cubes " + (dir / "auto" / "polycube.txt").string() +
-                           " -o " + (dir / "again").string());
+                           " --signal normals --texels 8 -o " + (dir / "again").string());
   EXPECT_EQ(again.status, 0) << again.output;
+  EXPECT_TRUE(test::hasWords(again.output, "8 texels per squarelet")) << again.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "again" / "polycube_render_lod.png"));
   test::writeBytes(dir / "box.txt", "0 0 0\n1 0 0\n");
   test::writeBytes(dir / "edge.txt", "0 0 0\n1 1 0\n");
   test::writeBytes(dir / "bad.txt", "0 0 0\n1 zero 0\n");

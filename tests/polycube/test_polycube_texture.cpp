@@ -3,6 +3,7 @@
 // only, and filtered reads are continuous across every kind of squarelet border (a face's centre
 // lines, flat lattice edges, convex and concave bends) at every level.
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -60,6 +61,22 @@ TEST(PolycubeTexture, LayoutHasEveryLevelAndRefusesBadSizes) {
   EXPECT_EQ(t.levelCount(), 4);  // 8, 4, 2, 1
   EXPECT_EQ(t.levelTexels(3), 1);
   EXPECT_EQ(t.atlas().width(), int(t.tilesPerRow()) * 10);
+  // M then the tile's offset: a squarelet's points stay inside its own tile's interior at every
+  // level, and no two tiles of any levels overlap.
+  std::set<std::pair<int, int>> texelsUsed;
+  for (std::uint32_t tile = 0; tile < surface->lut().tileCount(); ++tile)
+    for (int level = 0; level < t.levelCount(); ++level) {
+      const int texels = t.levelTexels(level);
+      const Vec2d lo = t.atlasPosition(tile, Vec2d(0.0), level), hi = t.atlasPosition(tile, Vec2d(1.0), level);
+      EXPECT_EQ(hi - lo, Vec2d(texels));
+      EXPECT_GE(lo.x, 1.0);
+      EXPECT_GE(lo.y, 1.0);
+      EXPECT_LE(hi.x + 1, t.atlas().width());
+      EXPECT_LE(hi.y + 1, t.atlas().height());
+      for (int j = -1; j <= texels; ++j)
+        for (int i = -1; i <= texels; ++i)
+          EXPECT_TRUE(texelsUsed.insert({int(lo.x) + i, int(lo.y) + j}).second) << "tiles overlap";
+    }
   EXPECT_THROW(PolycubeTexture(surface, smoothSignal(), {12}), Error);
   EXPECT_THROW(PolycubeTexture(surface, smoothSignal(), {0}), Error);
   EXPECT_THROW(PolycubeTexture(surface, smoothSignal(), {512}), Error);

@@ -8,9 +8,9 @@
 /// image of case 6b), whether the octants are the complement, and where its squarelets start in
 /// the 2D texture T2.
 ///
-/// T2 holds one tile of S x S texels per squarelet. A vertex's squarelets take consecutive tiles
-/// in the order of their squarelet index, so M is a rank in the vertex's 12-bit squarelet mask and
-/// the tile's corner, and is injective by construction. Every face of the polycube has one
+/// T2 holds one tile per squarelet (polycube_texture.h lays them out). A vertex's squarelets take
+/// consecutive tiles in the order of their squarelet index, so M is a rank in the vertex's 12-bit
+/// squarelet mask and the tile's corner, and is injective by construction. Every face of the polycube has one
 /// squarelet at each of its four corners, so T2 holds 4 x faces tiles, and the texels of one face
 /// are those of its four tiles.
 #pragma once
@@ -140,30 +140,6 @@ class PolycubeLut {
   Vec3i mOrigin{0}, mSize{0};
   std::vector<LutEntry> mEntries;
   std::uint32_t mTileCount = 0;
-};
-
-/// T2's layout: tiles of S x S texels, `tilesPerRow` to a row.
-struct SquareletAtlas {
-  int texelsPerSquarelet = 16;  ///< S
-  std::uint32_t tilesPerRow = 64;
-
-  /// The atlas for `tiles` tiles, as square as powers of two allow.
-  static SquareletAtlas forTiles(std::uint32_t tiles, int texelsPerSquarelet) {
-    SquareletAtlas atlas{texelsPerSquarelet, 1};
-    while (std::uint64_t(atlas.tilesPerRow) * atlas.tilesPerRow < tiles) atlas.tilesPerRow *= 2;
-    return atlas;
-  }
-  Vec2i size(std::uint32_t tiles) const {
-    const std::uint32_t rows = (tiles + tilesPerRow - 1) / tilesPerRow;
-    return {int(tilesPerRow) * texelsPerSquarelet, int(rows) * texelsPerSquarelet};
-  }
-  /// M: the texel position (continuous, texel units) of a point of a squarelet: its tile's corner
-  /// plus (s, t) times S. Texel centres of tile k are at corner + (i + 1/2, j + 1/2).
-  Vec2d texelPosition(const PolycubeLut& lut, const SquareletPoint& p) const {
-    const std::uint32_t tile = lut.at(p.vertex).tileOf(p.squarelet);
-    const Vec2d corner(double(tile % tilesPerRow), double(tile / tilesPerRow));
-    return (corner + p.st) * double(texelsPerSquarelet);
-  }
 };
 
 }  // namespace cellrelief::polycube

@@ -198,21 +198,29 @@ class PolycubeTexture {
 
 // ---- Signals ----
 
-/// Thin dark lines `cellsPerCube` to a cube on light faces tinted by the face's axis: the paper's
-/// grid pattern, which shows distortion and seams at a glance.
-inline SurfaceSignal gridSignal(double cellsPerCube = 4, double lineWidth = 0.1) {
+/// Dark lines `cellsPerCube` to a cube, `lineCubes` wide, on light faces tinted by the face's
+/// axis: the paper's grid pattern, which shows distortion and seams at a glance. Lines narrower
+/// than two texels alias; gridSignalFor picks both for a texture's resolution.
+inline SurfaceSignal gridSignal(double cellsPerCube = 4, double lineCubes = 1.0 / 16) {
   return [=](const Vec3d& p, const Vec3d& n) {
     const int axis = std::abs(n.x) > 0.5 ? 0 : std::abs(n.y) > 0.5 ? 1 : 2;
     bool line = false;
     for (int a = 0; a < 3; ++a) {
       if (a == axis) continue;
       const double f = p[a] * cellsPerCube;
-      line = line || std::abs(f - std::round(f)) < 0.5 * lineWidth;
+      line = line || std::abs(f - std::round(f)) < 0.5 * lineCubes * cellsPerCube;
     }
     static constexpr float kTint[3][3] = {{1.0f, 0.86f, 0.8f}, {0.82f, 1.0f, 0.84f}, {0.84f, 0.88f, 1.0f}};
     const Vec3f base = line ? Vec3f(0.12f) : Vec3f(kTint[axis][0], kTint[axis][1], kTint[axis][2]);
     return Vec4f(base, 1.0f);
   };
+}
+
+/// The grid for S texels per squarelet (2 S per cube): lines two texels wide, cells of at least
+/// eight texels, at most four cells per cube.
+inline SurfaceSignal gridSignalFor(int texelsPerSquarelet) {
+  const double texel = 0.5 / std::max(1, texelsPerSquarelet);
+  return gridSignal(std::clamp(1.0 / (8 * texel), 1.0, 4.0), 2 * texel);
 }
 
 /// A smooth colour field, 0.5 + 0.5 sin(2 pi p_a / period) per channel on three skewed axes: no
