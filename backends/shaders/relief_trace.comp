@@ -7,7 +7,8 @@
 //  - the variant, as constant bools: CR_PARALLEL, CR_PLANAR, CR_PERSPECTIVE, CR_AXIAL (projection
 //    types present), CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SKIP_CENTRAL,
 //    CR_SHADOWS, CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
-//    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels).
+//    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels),
+//    CR_POLYCUBE (polycube-mapped meshes present; gpu/polycube_layout.h);
 //    OpenGL compiles them as plain constants, Vulkan as specialization constants of one SPIR-V
 //    module; either way the compiler removes the branches a variant switches off;
 //  - the workgroup size and the number of lights.
@@ -1070,6 +1071,317 @@ Hit traceModel(vec3 o, vec3 d, float tmin, float tmax) {
   return missAfter(steps);
 }
 
+// ---- polycube-mapped meshes (trace/polycube_tracer.h; the words of gpu/polycube_layout.h) --------
+
+layout(std430, CR_BIND(10)) readonly buffer PolycubeWords { uint pcWords[]; };
+layout(CR_BIND(11)) uniform sampler2DArray polycubeT2;
+
+vec2 gT2InverseSize;  // set once in main()
+
+int pcMeshCount() { return CR_POLYCUBE ? int(pcWords[0]) : 0; }
+uint pcInfo(int mesh, int field) { return pcWords[1 + mesh * CR_PC_MESH_INFO_WORDS + field]; }
+float pcFloat(uint index) { return uintBitsToFloat(pcWords[index]); }
+vec3 pcVec3(uint index) { return vec3(pcFloat(index), pcFloat(index + 1u), pcFloat(index + 2u)); }
+
+struct MeshHit {
+  float t;
+  float u, v;     // barycentrics of corners 1 and 2
+  int triangle;   // in the BVH's leaf order; -1: none
+  vec3 ng;        // unnormalized geometric normal
+};
+
+// intersectTriangle (core/hit.h): Moller-Trumbore with its barycentric slack.
+bool pcIntersectTriangle(vec3 o, vec3 d, vec3 p0, vec3 p1, vec3 p2, inout MeshHit best, int triangle) {
+  const vec3 e1 = p1 - p0, e2 = p2 - p0;
+  const vec3 pv = cross(d, e2);
+  const float det = dot(e1, pv);
+  if (det == 0.0) return false;
+  const float invDet = 1.0 / det;
+  const vec3 tv = o - p0;
+  const float u = dot(tv, pv) * invDet;
+  if (u < -CR_PC_BARYCENTRIC_SLACK || u > 1.0 + CR_PC_BARYCENTRIC_SLACK) return false;
+  const vec3 qv = cross(tv, e1);
+  const float v = dot(d, qv) * invDet;
+  if (v < -CR_PC_BARYCENTRIC_SLACK || u + v > 1.0 + CR_PC_BARYCENTRIC_SLACK) return false;
+  const float t = dot(e2, qv) * invDet;
+  if (t < 0.0 || t >= best.t) return false;
+  best = MeshHit(t, u, v, triangle, cross(e1, e2));
+  return true;
+}
+
+uvec3 pcTriangle(int mesh, int triangle) {
+  const uint at = pcInfo(mesh, CR_PC_TRIANGLE_OFFSET) + uint(triangle) * uint(CR_PC_TRIANGLE_WORDS);
+  return uvec3(pcWords[at], pcWords[at + 1u], pcWords[at + 2u]);
+}
+uint pcVertex(int mesh, uint v) { return pcInfo(mesh, CR_PC_VERTEX_OFFSET) + v * uint(CR_PC_VERTEX_WORDS); }
+
+// TriangleBvh::closestHit (or anyHit): the nearest hit with t in [0, tmax).
+MeshHit pcTrace(int mesh, vec3 o, vec3 d, float tmax, bool anyHit) {
+  MeshHit best = MeshHit(tmax, 0.0, 0.0, -1, vec3(0.0));
+  const uint nodeBase = pcInfo(mesh, CR_PC_NODE_OFFSET);
+  const vec3 inv = 1.0 / d;
+  uint stack[64];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    const uint node = stack[--top];
+    const uint at = nodeBase + node * uint(CR_PC_NODE_WORDS);
+    const vec3 lo = (pcVec3(at) - o) * inv, hi = (pcVec3(at + 3u) - o) * inv;
+    const vec3 near = min(lo, hi), far = max(lo, hi);
+    const float t0 = max(max(near.x, near.y), max(near.z, 0.0));
+    const float t1 = min(min(far.x, far.y), min(far.z, best.t));
+    if (!(t0 <= t1)) continue;
+    const uint first = pcWords[at + 6u], count = pcWords[at + 7u];
+    if (count == 0u) {
+      if (top < 62) {
+        stack[top++] = first;       // the right child
+        stack[top++] = node + 1u;   // the left child, next
+      }
+      continue;
+    }
+    for (uint i = first; i < first + count; ++i) {
+      const uvec3 t = pcTriangle(mesh, int(i));
+      if (pcIntersectTriangle(o, d, pcVec3(pcVertex(mesh, t.x)), pcVec3(pcVertex(mesh, t.y)), pcVec3(pcVertex(mesh, t.z)),
+                              best, int(i)) && anyHit)
+        return best;
+    }
+  }
+  return best;
+}
+
+// The nearest mesh hit before tmax (CpuBackend::intersect, after the relief models); the mesh or -1.
+int pcTraceMeshes(vec3 o, vec3 d, float tmax, out MeshHit best) {
+  best = MeshHit(tmax, 0.0, 0.0, -1, vec3(0.0));
+  int found = -1;
+  for (int m = 0; m < pcMeshCount(); ++m) {
+    const MeshHit h = pcTrace(m, o, d, best.t, false);
+    if (h.triangle >= 0 && h.t < best.t) {
+      best = h;
+      found = m;
+    }
+  }
+  return found;
+}
+
+bool pcOccluded(vec3 o, vec3 d) {
+  for (int m = 0; m < pcMeshCount(); ++m)
+    if (pcTrace(m, o, d, CR_INF, true).triangle >= 0) return true;
+  return false;
+}
+
+// The look-up table's entry of a lattice vertex: (case | signed permutation << 3 | squarelets << 12,
+// first tile); case CR_PC_EMPTY_CASE outside the box or where no surface passes.
+uvec2 pcEntry(int mesh, ivec3 vertex) {
+  const ivec3 origin = ivec3(int(pcInfo(mesh, CR_PC_LUT_ORIGIN)), int(pcInfo(mesh, CR_PC_LUT_ORIGIN + 1)),
+                             int(pcInfo(mesh, CR_PC_LUT_ORIGIN + 2)));
+  const ivec3 size = ivec3(int(pcInfo(mesh, CR_PC_LUT_SIZE)), int(pcInfo(mesh, CR_PC_LUT_SIZE + 1)),
+                           int(pcInfo(mesh, CR_PC_LUT_SIZE + 2)));
+  const ivec3 l = vertex - origin;
+  if (any(lessThan(l, ivec3(0))) || any(greaterThanEqual(l, size))) return uvec2(uint(CR_PC_EMPTY_CASE), 0u);
+  const uint index = (uint(l.z) * uint(size.y) + uint(l.y)) * uint(size.x) + uint(l.x);
+  const uint at = pcInfo(mesh, CR_PC_LUT_OFFSET) + index * uint(CR_PC_LUT_ENTRY_WORDS);
+  return uvec2(pcWords[at], pcWords[at + 1u]);
+}
+
+// applyTransform / applyInverseTransform (vertex_configuration.h) as signed permutations.
+vec3 pcApply(uint permutation, vec3 d) {
+  vec3 r;
+  for (int i = 0; i < 3; ++i) {
+    const uint f = (permutation >> uint(3 * i)) & 7u;
+    const float v = d[int(f & 3u)];
+    r[i] = (f & 4u) != 0u ? -v : v;
+  }
+  return r;
+}
+vec3 pcApplyInverse(uint permutation, vec3 d) {
+  vec3 r;
+  for (int i = 0; i < 3; ++i) {
+    const uint f = (permutation >> uint(3 * i)) & 7u;
+    r[int(f & 3u)] = (f & 4u) != 0u ? -d[i] : d[i];
+  }
+  return r;
+}
+
+// projection.h, detail::projectFromBoxCorner: cases 3, 4a, 4b.
+vec3 pcProjectFromBoxCorner(vec3 p, bvec3 activeAxes) {
+  float t = CR_INF;
+  for (int a = 0; a < 3; ++a)
+    if (activeAxes[a] && p[a] > -0.5) t = min(t, 0.5 / (p[a] + 0.5));
+  if (t == CR_INF) return p;
+  vec3 q = p;
+  for (int a = 0; a < 3; ++a)
+    if (activeAxes[a]) q[a] = -0.5 + t * (p[a] + 0.5);
+  return q;
+}
+
+// detail::projectCase5.
+vec3 pcProjectCase5(vec3 p) {
+  const vec2 w = vec2(p.x - 0.5, p.y - 0.5);
+  const float r = max(-w.x, -w.y);
+  if (r <= 0.0) return vec3(0.5, 0.5, 0.0);
+  const float sigma = 2.0 * r - 1.0, z = p.z;
+  if (sigma >= 1.0 && z <= -0.5) return p;
+  float sigmaImage, zImage;
+  if (sigma >= -2.0 * z) {
+    const float t = 0.5 / (z + 0.5);
+    sigmaImage = 1.0 + t * (sigma - 1.0);
+    zImage = 0.0;
+  } else {
+    const float t = 1.0 / (1.0 - sigma);
+    sigmaImage = 0.0;
+    zImage = -0.5 + t * (z + 0.5);
+  }
+  const float rImage = 0.5 * (sigmaImage + 1.0);
+  return vec3(0.5 + w.x * (rImage / r), 0.5 + w.y * (rImage / r), zImage);
+}
+
+// detail::projectArmFan.
+vec3 pcProjectArmFan(int axis, vec3 p) {
+  const int b = axis == 2 ? 0 : axis + 1, c = b == 2 ? 0 : b + 1;
+  const float r = max(p[b] + 0.5, p[c] + 0.5);
+  const float sigma = 2.0 * r - 1.0, h = p[axis];
+  if (r <= 0.0 || sigma >= 1.0) return p;
+  const float tWall = 1.0 / (1.0 - sigma);
+  const float hWall = 0.5 + tWall * (h - 0.5);
+  float sigmaImage = 0.0, hImage = hWall;
+  if (hWall < 0.0) {
+    sigmaImage = 1.0 + (0.5 / (0.5 - h)) * (sigma - 1.0);
+    hImage = 0.0;
+  }
+  const float scale = 0.5 * (sigmaImage + 1.0) / r;
+  vec3 q;
+  q[axis] = hImage;
+  q[b] = -0.5 + (p[b] + 0.5) * scale;
+  q[c] = -0.5 + (p[c] + 0.5) * scale;
+  return q;
+}
+
+int pcLargest(vec3 v) { return v.x >= v.y && v.x >= v.z ? 0 : (v.y >= v.z ? 1 : 2); }
+
+// detail::projectCase6a.
+vec3 pcProjectCase6a(vec3 p) {
+  const int positive = (p.x > 0.0 ? 1 : 0) + (p.y > 0.0 ? 1 : 0) + (p.z > 0.0 ? 1 : 0);
+  if (positive <= 1) return pcProjectArmFan(pcLargest(p), p);
+  return -pcProjectArmFan(pcLargest(-p), -p);
+}
+
+// PolycubeSurface::project: P through the dual cell of the nearest lattice vertex.
+bool pcProject(int mesh, vec3 p, out vec3 q) {
+  q = p;
+  const ivec3 vertex = ivec3(floor(p + 0.5));
+  const uvec2 e = pcEntry(mesh, vertex);
+  const uint c = e.x & 7u;
+  if (c >= 5u) return false;  // empty, or case 6b (refused at upload)
+  const uint permutation = (e.x >> 3u) & 0x1ffu;
+  const vec3 d = pcApplyInverse(permutation, p - vec3(vertex));
+  vec3 image;
+  if (c == 0u) image = pcProjectFromBoxCorner(d, bvec3(true, true, true));
+  else if (c == 1u) image = pcProjectFromBoxCorner(d, bvec3(false, false, true));
+  else if (c == 2u) image = pcProjectFromBoxCorner(d, bvec3(false, true, true));
+  else if (c == 3u) image = pcProjectCase5(d);
+  else image = pcProjectCase6a(d);
+  q = vec3(vertex) + pcApply(permutation, image);
+  return true;
+}
+
+// PolycubeLut::locate and LutEntry::tileOf: the tile and squarelet coordinates of a surface point.
+bool pcLocate(int mesh, vec3 p, out uint tile, out vec2 st) {
+  tile = 0u;
+  st = vec2(0.0);
+  const ivec3 vertex = ivec3(floor(p + 0.5));
+  const uvec2 e = pcEntry(mesh, vertex);
+  if ((e.x & 7u) == uint(CR_PC_EMPTY_CASE)) return false;
+  const uint squarelets = (e.x >> 12u) & 0xfffu;
+  const vec3 d = p - vec3(vertex);
+  const vec3 m = abs(d);
+  // The planes the point is nearest first (std::sort of the three axes by |d|).
+  ivec3 order = ivec3(0, 1, 2);
+  if (m[order.y] < m[order.x]) order.xy = order.yx;
+  if (m[order.z] < m[order.y]) order.yz = order.zy;
+  if (m[order.y] < m[order.x]) order.xy = order.yx;
+  for (int k = 0; k < 3; ++k) {
+    const int axis = order[k];
+    if (m[axis] > CR_PC_LOCATE_TOLERANCE) break;
+    const int a = axis == 2 ? 0 : axis + 1, b = a == 2 ? 0 : a + 1;
+    const int lo = min(a, b), hi = max(a, b);
+    const int loSides = m[lo] <= CR_PC_LOCATE_TOLERANCE ? 2 : 1, hiSides = m[hi] <= CR_PC_LOCATE_TOLERANCE ? 2 : 1;
+    for (int i = 0; i < loSides; ++i)
+      for (int j = 0; j < hiSides; ++j) {
+        const bool loPositive = loSides == 2 ? i == 1 : d[lo] > 0.0, hiPositive = hiSides == 2 ? j == 1 : d[hi] > 0.0;
+        const uint s = uint(4 * axis + (loPositive ? 1 : 0) + (hiPositive ? 2 : 0));
+        if (((squarelets >> s) & 1u) != 0u) {
+          tile = e.y + uint(bitCount(squarelets & ((1u << s) - 1u)));
+          st = 2.0 * vec2(m[lo], m[hi]);
+          return true;
+        }
+      }
+  }
+  return false;
+}
+
+// PolycubeTexture::atlasPosition, in texels of the stacked texture.
+vec2 pcAtlasPosition(int mesh, uint tile, vec2 st, int level) {
+  const uint tilesPerRow = pcInfo(mesh, CR_PC_TILES_PER_ROW);
+  const int texels = max(1, int(pcInfo(mesh, CR_PC_TEXELS)) >> level);
+  const float size = float(texels + 2);
+  return vec2(float(tile % tilesPerRow) * size + 1.0 + st.x * float(texels),
+              float(pcInfo(mesh, CR_PC_LEVEL_ROW + level)) + float(tile / tilesPerRow) * size + 1.0 + st.y * float(texels));
+}
+
+vec4 pcBilinear(int mesh, uint tile, vec2 st, int level) {
+  return textureLod(polycubeT2, vec3(pcAtlasPosition(mesh, tile, st, level) * gT2InverseSize, 0.0), 0.0);
+}
+
+// PolycubeTexture::sample.
+vec4 pcSample(int mesh, uint tile, vec2 st, float lod) {
+  st = clamp(st, vec2(0.0), vec2(1.0));
+  const uint filterMode = pcInfo(mesh, CR_PC_FILTER);
+  if (filterMode == 0u) {
+    const int texels = int(pcInfo(mesh, CR_PC_TEXELS));
+    const ivec2 i = min(ivec2(st * float(texels)), ivec2(texels - 1));
+    const vec2 corner = pcAtlasPosition(mesh, tile, vec2(0.0), 0);
+    return texelFetch(polycubeT2, ivec3(ivec2(corner) + i, 0), 0);
+  }
+  if (filterMode == 1u) return pcBilinear(mesh, tile, st, 0);
+  const int levels = int(pcInfo(mesh, CR_PC_LEVELS));
+  const float clamped = clamp(lod, 0.0, float(levels - 1));
+  const int lower = int(floor(clamped));
+  const int upper = min(lower + 1, levels - 1);
+  const vec4 a = pcBilinear(mesh, tile, st, lower);
+  if (upper == lower) return a;
+  return mix(a, pcBilinear(mesh, tile, st, upper), clamped - float(lower));
+}
+
+float pcSurfaceOffset(int mesh) { return uintBitsToFloat(pcInfo(mesh, CR_PC_SURFACE_OFFSET)); }
+
+// PolycubeTracer::intersect after the BVH: the shading normal and base colour of a mesh hit.
+void pcShade(int mesh, MeshHit h, vec3 direction, float spread, out vec3 normal, out vec3 base) {
+  const uvec3 t = pcTriangle(mesh, h.triangle);
+  const uint v0 = pcVertex(mesh, t.x), v1 = pcVertex(mesh, t.y), v2 = pcVertex(mesh, t.z);
+  const float w0 = 1.0 - h.u - h.v, w1 = h.u, w2 = h.v;
+  const vec3 n = w0 * pcVec3(v0 + 3u) + w1 * pcVec3(v1 + 3u) + w2 * pcVec3(v2 + 3u);
+  normal = length(n) > 0.0 ? n / length(n) : normalize(h.ng);
+  base = vec3(200.0 / 255.0);
+  const vec3 texturePosition = w0 * pcVec3(v0 + 6u) + w1 * pcVec3(v1 + 6u) + w2 * pcVec3(v2 + 6u);
+  const float cosine = abs(dot(normalize(direction), normalize(h.ng)));
+  const float footprint = spread * h.t * length(direction) / max(cosine, CR_PC_MIN_FOOTPRINT_COSINE);
+  const float cubesPerWorld = pcFloat(pcInfo(mesh, CR_PC_TRIANGLE_OFFSET) + uint(h.triangle) * uint(CR_PC_TRIANGLE_WORDS) + 3u);
+  const float lod = log2(max(footprint * cubesPerWorld * 2.0 * float(pcInfo(mesh, CR_PC_TEXELS)), 1e-30));
+  vec3 onSurface;
+  uint tile;
+  vec2 st;
+  if (!pcProject(mesh, texturePosition, onSurface) || !pcLocate(mesh, onSurface, tile, st)) return;
+  const vec4 texel = pcSample(mesh, tile, st, lod);
+  if (pcInfo(mesh, CR_PC_USE) == 0u) {
+    base = texel.rgb;
+  } else {
+    const vec3 mapped = 2.0 * texel.rgb - 1.0;
+    if (length(mapped) > 0.1) normal = normalize(mapped);
+  }
+}
+
+// ---- the scene ---------------------------------------------------------------------------------
+
 // The nearest hit over the scene's models (CpuBackend::intersect); leaves that model selected.
 // best.steps: over every model's search, hit or miss.
 Hit traceScene(vec3 o, vec3 d, out int hitModel) {
@@ -1091,12 +1403,14 @@ Hit traceScene(vec3 o, vec3 d, out int hitModel) {
 }
 
 bool occludedScene(vec3 o, vec3 d) {
+  if (CR_POLYCUBE && pcOccluded(o, d)) return true;
   for (int m = 0; m < P.size.z; ++m) {
     selectModel(m);
     if (traceModel(o, d, 0.0, CR_INF).cell >= 0) return true;
   }
   return false;
 }
+
 
 // ---- shading (ReliefTracer::shade, CpuBackend::shade) ------------------------------------------
 
@@ -1196,9 +1510,8 @@ vec3 facing(vec3 n, vec3 direction) { return dot(n, direction) > 0.0 ? -n : n; }
 
 float surfaceOffset() { return CR_SURFACE_OFFSET_SAMPLES * gCellSize / float(max(1, gTexels - 1)); }
 
-// Ambient plus Lambert over the lights, each gated by a shadow ray (the hit's model selected).
-vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
-  const float offset = surfaceOffset();
+// Ambient plus Lambert over the lights, each gated by a shadow ray leaving `offset` off the surface.
+vec3 shadeLocal(vec3 position, vec3 normal, vec3 base, float offset) {
   vec3 light = P.ambient.rgb;
   for (int i = 0; i < P.size.w; ++i) {
     const vec3 towards = P.lights[i].direction.xyz;
@@ -1207,7 +1520,7 @@ vec3 shadeLocal(vec3 position, vec3 normal, vec3 base) {
     if (CR_SHADOWS && P.flags.x != 0) {
       const int keep = gModel;
       const bool blocked = occludedScene(position + offset * normal, towards);
-      selectModel(keep);
+      if (keep >= 0) selectModel(keep);  // -1 on a polycube mesh's hit
       if (blocked) continue;
     }
     light += P.lights[i].color.rgb * lambert;
@@ -1233,15 +1546,21 @@ void main() {
   if (pixel.x >= width || pixel.y >= height) return;
   const int index = pixel.y * width + pixel.x;
   gInverseAtlasSize = 1.0 / vec2(textureSize(distanceAtlas, 0).xy);
+  gT2InverseSize = 1.0 / vec2(textureSize(polycubeT2, 0).xy);
+  gModel = -1;
   // Camera::primaryRay
   const float sx = (2.0 * (float(pixel.x) + 0.5) / float(width) - 1.0);
   const float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / float(height));
   const vec3 eye = P.eye.xyz;
   const vec3 direction = normalize(P.forward.xyz + sx * P.right.xyz + sy * P.up.xyz);
+  // One pixel's angle: the cone a mesh hit's texture footprint grows with (CpuBackend::pixelSpread).
+  const float spread = 2.0 * length(P.up.xyz) / float(height);
   int model;
   const Hit hit = traceScene(eye, direction, model);
+  MeshHit meshHit;
+  const int mesh = CR_POLYCUBE ? pcTraceMeshes(eye, direction, hit.cell >= 0 ? hit.t : CR_INF, meshHit) : -1;
   if (CR_OUT_STEPS) frameWords[P.offsets.w + index] = floatBitsToUint(float(hit.steps));
-  if (hit.cell < 0) {
+  if (hit.cell < 0 && mesh < 0) {
     if (CR_OUT_COLOR) {
       const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
       frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
@@ -1253,42 +1572,64 @@ void main() {
     if (CR_OUT_CELL) frameWords[P.offsets.z + index] = floatBitsToUint(-1.0);
     return;
   }
-  selectCell(hit.cell);
   vec3 shadingNormal, base;
-  shadeHit(hit, direction, shadingNormal, base);
+  float t, offset;
+  if (mesh >= 0) {
+    pcShade(mesh, meshHit, direction, spread, shadingNormal, base);
+    t = meshHit.t;
+    offset = pcSurfaceOffset(mesh);
+  } else {
+    selectCell(hit.cell);
+    shadeHit(hit, direction, shadingNormal, base);
+    t = hit.t;
+    offset = surfaceOffset();
+  }
   const vec3 n = facing(shadingNormal, direction);
-  if (CR_OUT_DEPTH) frameWords[P.flags.w + index] = floatBitsToUint(hit.t);
+  if (CR_OUT_DEPTH) frameWords[P.flags.w + index] = floatBitsToUint(t);
   if (CR_OUT_NORMAL)
     for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = floatBitsToUint(n[c]);
   if (CR_OUT_MASK) frameWords[P.offsets.y + index] = 1u;
-  if (CR_OUT_CELL) frameWords[P.offsets.z + index] = floatBitsToUint(float(hit.cell - models[model].cellOffset));
+  if (CR_OUT_CELL)
+    frameWords[P.offsets.z + index] = floatBitsToUint(mesh >= 0 ? -1.0 : float(hit.cell - models[model].cellOffset));
   if (!CR_OUT_COLOR) return;
   // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.
-  vec3 position = eye + hit.t * direction;
+  vec3 position = eye + t * direction;
   vec3 normalK = n;
   vec3 baseK = base;
+  float offsetK = offset;
   vec3 rayDirection = direction;
   vec3 result = vec3(0.0);
   float weight = 1.0;
   for (int bounce = 0;; ++bounce) {
-    const vec3 local = shadeLocal(position, normalK, baseK);
+    const vec3 local = shadeLocal(position, normalK, baseK, offsetK);
     if (CR_REFLECTIONS && bounce < P.steps.w) {
       const float r = P.tuning.y;
       result += weight * (1.0 - r) * local;
       weight *= r;
       const vec3 mirrorDirection = reflect(normalize(rayDirection), normalK);
-      const vec3 mirrorOrigin = position + surfaceOffset() * normalK;
+      const vec3 mirrorOrigin = position + offsetK * normalK;
       int next;
       const Hit h = traceScene(mirrorOrigin, mirrorDirection, next);
-      if (h.cell < 0) {
+      MeshHit mh;
+      const int nextMesh = CR_POLYCUBE ? pcTraceMeshes(mirrorOrigin, mirrorDirection, h.cell >= 0 ? h.t : CR_INF, mh) : -1;
+      if (h.cell < 0 && nextMesh < 0) {
         result += weight * P.background.rgb;
         break;
       }
-      selectCell(h.cell);
       vec3 nextNormal;
-      shadeHit(h, mirrorDirection, nextNormal, baseK);
+      float nextT;
+      if (nextMesh >= 0) {
+        pcShade(nextMesh, mh, mirrorDirection, spread, nextNormal, baseK);
+        nextT = mh.t;
+        offsetK = pcSurfaceOffset(nextMesh);
+      } else {
+        selectCell(h.cell);
+        shadeHit(h, mirrorDirection, nextNormal, baseK);
+        nextT = h.t;
+        offsetK = surfaceOffset();
+      }
       normalK = facing(nextNormal, mirrorDirection);
-      position = mirrorOrigin + h.t * mirrorDirection;
+      position = mirrorOrigin + nextT * mirrorDirection;
       rayDirection = mirrorDirection;
       continue;
     }

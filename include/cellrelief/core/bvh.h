@@ -121,6 +121,17 @@ class TriangleBvh {
   std::size_t triangleCount() const { return mIds.size(); }
   std::size_t nodeCount() const { return mNodes.size(); }
 
+  /// The tree as a GPU backend uploads it: nodes in depth-first order (an inner node's left
+  /// child follows it, `first` is its right child; a leaf's `first` and `count` index
+  /// primitiveIds()), and the triangle ids in leaf order.
+  struct Node {
+    Aabb<T> box;
+    std::uint32_t first = 0;  // leaf: first primitive; inner: index of the right child
+    std::uint32_t count = 0;  // leaf: number of primitives; inner: 0 (left child follows)
+  };
+  std::span<const Node> nodes() const { return mNodes; }
+  std::span<const std::uint32_t> primitiveIds() const { return mIds; }
+
   /// True when the ray meets a triangle other than `skip` with t in [tmin, tmax).
   bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
     bool found = false;
@@ -184,11 +195,6 @@ class TriangleBvh {
   }
 
  private:
-  struct Node {
-    Aabb<T> box;
-    std::uint32_t first = 0;  // leaf: first primitive; inner: index of the right child
-    std::uint32_t count = 0;  // leaf: number of primitives; inner: 0 (left child follows)
-  };
 
   std::uint32_t build(std::vector<std::uint32_t>& order, std::uint32_t begin, std::uint32_t end,
                       const std::vector<Vec3<T>>& centroids, const std::vector<Aabb<T>>& boxes) {

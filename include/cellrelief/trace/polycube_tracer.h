@@ -28,6 +28,8 @@ namespace constants {
 inline constexpr float kMinFootprintCosine = 0.2f;
 /// Secondary rays leave a mesh this fraction of its bounding box's diagonal off the surface.
 inline constexpr float kMeshSurfaceOffset = 1e-4f;
+/// A hit's texture position after P lies in a squarelet's plane within this many cubes.
+inline constexpr float kLocateTolerance = 1e-5f;
 }  // namespace constants
 
 class PolycubeTracer {
@@ -63,6 +65,10 @@ class PolycubeTracer {
   }
 
   const polycube::TexturedMesh& mesh() const { return *mMesh; }
+  /// What a GPU backend uploads of it: the BVH, the shading normals, each triangle's scale.
+  const TriangleBvh<float>& bvh() const { return mBvh; }
+  const Vec3f& vertexNormal(std::size_t v) const { return mNormals[v]; }
+  float cubesPerWorld(std::size_t triangle) const { return mCubesPerWorld[triangle]; }
   float surfaceOffset() const { return mSurfaceOffset; }
   std::size_t accelerationBytes() const {
     return mBvh.nodeCount() * (sizeof(Aabbf) + 8) + mBvh.triangleCount() * (3 * sizeof(Vec3f) + 4) +
@@ -91,7 +97,7 @@ class PolycubeTracer {
     hit.lod = t2.lodOf(double(footprint) * mCubesPerWorld[h.primId]);
     const std::optional<Vec3d> onSurface = t2.surface().project(Vec3d(texture));
     const std::optional<polycube::SquareletPoint> squarelet =
-        onSurface ? t2.surface().lut().locate(*onSurface, 1e-5) : std::nullopt;
+        onSurface ? t2.surface().lut().locate(*onSurface, constants::kLocateTolerance) : std::nullopt;
     if (!squarelet) return hit;  // validate() keeps corners within reach; kept grey if not
     hit.texture = Vec3f(*onSurface);
     const Vec4f texel = t2.sample(*squarelet, mMesh->filter, hit.lod);

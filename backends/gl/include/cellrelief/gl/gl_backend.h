@@ -71,7 +71,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   void upload(const render::Scene& scene) override {
     mContext->makeCurrent();
     releaseScene();
-    gpu::checkSupported(scene, "the OpenGL backend");
+    gpu::checkLights(scene, "the OpenGL backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
@@ -80,10 +80,12 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mBuffers[1] = storageBuffer(mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord));
     mBuffers[2] = storageBuffer(mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t));
     mBuffers[3] = storageBuffer(mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t));
+    mBuffers[4] = storageBuffer(mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t));
     mTextures[0] = atlasTexture(mGpu.distances, GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[1] = atlasTexture(mGpu.normalsOct, GL_RG16UI, GL_RG_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[2] = atlasTexture(mGpu.normalsRgba, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
     mTextures[3] = atlasTexture(mGpu.colors, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
+    mTextures[4] = polycubeTexture(mGpu.polycube);
     glFinish();
     if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
       releaseScene();
@@ -104,7 +106,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mRendered = false;  // a render that fails leaves nothing to read back
     checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
-    const bool rasterized = mEntry == RayEntry::Rasterized && gpu::eyeOutsideScene(mScene, camera);
+    const bool rasterized = mEntry == RayEntry::Rasterized && gpu::rasterizedEntryServes(mScene, camera);
     const GLuint program = programFor(variant, rasterized);
     if (rasterized) prepareRasterized(options);  // before the timer query: these may throw
     // The layout holds every channel the shader writes (the general one writes all of them);
@@ -117,8 +119,10 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glUseProgram(program);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, mParamsBuffer);
     for (int i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(1 + i), mBuffers[i]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, mBuffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, mFrameBuffer);
     for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
+    glBindTextureUnit(11, mTextures[4]);
     if (!mTimer) glGenQueries(1, &mTimer);
     glBeginQuery(GL_TIME_ELAPSED, mTimer);
     mLastEntry = rasterized ? RayEntry::Rasterized : RayEntry::Compute;
@@ -246,6 +250,22 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glTextureStorage3D(texture, 1, internalFormat, atlas.width, atlas.height, atlas.layers);
     glTextureSubImage3D(texture, 0, 0, 0, 0, atlas.width, atlas.height, atlas.layers, format, type,
                         atlas.texels.data());
+    return texture;
+  }
+
+  /// T2 of every polycube mesh: RGBA8 read as UNORM and filtered by the hardware (its tiles'
+  /// borders make bilinear reads seamless, polycube_texture.h); no mip chain (the levels are
+  /// stacked in the texture).
+  static GLuint polycubeTexture(const gpu::PolycubeGpu& p) {
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureStorage3D(texture, 1, GL_RGBA8, p.width, p.height, 1);
+    glTextureSubImage3D(texture, 0, 0, 0, 0, p.width, p.height, 1, GL_RGBA, GL_UNSIGNED_BYTE, p.t2.data());
     return texture;
   }
 
@@ -397,8 +417,8 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   render::Scene mScene;
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
-  GLuint mBuffers[4] = {0, 0, 0, 0};   ///< models, cells, hash, pyramid
-  GLuint mTextures[4] = {0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors
+  GLuint mBuffers[5] = {0, 0, 0, 0, 0};   ///< models, cells, hash, pyramid, polycube meshes
+  GLuint mTextures[5] = {0, 0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
   GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;
   int mStencilWidth = 0, mStencilHeight = 0;

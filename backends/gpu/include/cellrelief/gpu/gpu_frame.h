@@ -172,18 +172,12 @@ inline void checkLights(const render::Scene& scene, const char* backend) {
                                                 " lights; the scene has " + std::to_string(scene.lights.size()));
 }
 
-/// What the GPU backends cannot render yet, refused at upload rather than drawn wrong: too many
-/// lights, and polycube-mapped meshes (the CPU reference renders them; their shader is to come).
-inline void checkSupported(const render::Scene& scene, const char* backend) {
-  checkLights(scene, backend);
-  if (!scene.polycubeMeshes.empty())
-    throw Error(ErrorKind::Unsupported, std::string(backend) + " does not render polycube-mapped meshes yet; the scene has " +
-                                            std::to_string(scene.polycubeMeshes.size()) + " (use the cpu backend)");
-}
-
-/// Whether the eye lies outside every model's grid (with a margin): then every ray enters the
-/// grids from outside, where the rasterized cells show it.
-inline bool eyeOutsideScene(const render::Scene& scene, const render::Camera& camera) {
+/// Whether the rasterized entry (rays started where the cells' cover is drawn) sees everything
+/// the compute entry does: when the eye lies outside every model's grid (with a margin), every
+/// ray enters the grids from outside, where the rasterized cells show it. A scene with polycube
+/// meshes always takes the compute entry (the cells' cover would hide the meshes).
+inline bool rasterizedEntryServes(const render::Scene& scene, const render::Camera& camera) {
+  if (!scene.polycubeMeshes.empty()) return false;
   const Aabbd bounds = scene.boundsWS();
   const Vec3d margin(0.01 * bounds.diagonal());
   return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||

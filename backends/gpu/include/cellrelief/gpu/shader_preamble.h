@@ -29,6 +29,7 @@ struct ShaderVariant {
   bool parallel = true, planar = true, perspective = true, axial = true;
   bool octahedralNormals = true, rgbaNormals = true, colors = true;
   bool skip = true, skipCentral = true, shadows = true, reflections = true;
+  bool polycube = true;  ///< polycube-mapped meshes
   unsigned channels = render::kAllChannels;
   bool gather = true;  ///< read the 2 x 2 samples with one textureGather (measured: 12% faster on llvmpipe, same image) instead of 4 fetches
 
@@ -49,6 +50,7 @@ struct ShaderVariant {
     v.channels = channels;
     v.shadows = shadows && (channels & render::kColor);
     v.reflections = reflections && (channels & render::kColor);
+    v.polycube = f.polycube;
     return v;
   }
   bool operator==(const ShaderVariant&) const = default;
@@ -66,6 +68,7 @@ struct ShaderVariant {
     if (skipCentral) s += ":skipc";
     if (shadows) s += ":shadows";
     if (reflections) s += ":mirror";
+    if (polycube) s += ":polycube";
     if (gather) s += ":gather";
     return s;
   }
@@ -126,6 +129,31 @@ inline std::string traversalConstants() {
   s += define("CR_MAX_LIGHTS", kMaxLights);
   s += define("CR_GROUP_WIDTH", kGroupWidth);
   s += define("CR_GROUP_HEIGHT", kGroupHeight);
+  {
+    namespace w = polycube_words;
+    s += define("CR_PC_MESH_INFO_WORDS", w::kMeshInfoWords);
+    s += define("CR_PC_NODE_WORDS", w::kNodeWords);
+    s += define("CR_PC_TRIANGLE_WORDS", w::kTriangleWords);
+    s += define("CR_PC_VERTEX_WORDS", w::kVertexWords);
+    s += define("CR_PC_LUT_ENTRY_WORDS", w::kLutEntryWords);
+    s += define("CR_PC_EMPTY_CASE", int(w::kEmptyCase));
+    s += define("CR_PC_NODE_OFFSET", w::kNodeOffset);
+    s += define("CR_PC_TRIANGLE_OFFSET", w::kTriangleOffset);
+    s += define("CR_PC_VERTEX_OFFSET", w::kVertexOffset);
+    s += define("CR_PC_LUT_OFFSET", w::kLutOffset);
+    s += define("CR_PC_LUT_ORIGIN", w::kLutOrigin);
+    s += define("CR_PC_LUT_SIZE", w::kLutSize);
+    s += define("CR_PC_TEXELS", w::kTexels);
+    s += define("CR_PC_LEVELS", w::kLevels);
+    s += define("CR_PC_TILES_PER_ROW", w::kTilesPerRow);
+    s += define("CR_PC_USE", w::kUse);
+    s += define("CR_PC_FILTER", w::kFilter);
+    s += define("CR_PC_SURFACE_OFFSET", w::kSurfaceOffset);
+    s += define("CR_PC_LEVEL_ROW", w::kLevelRow);
+    s += define("CR_PC_BARYCENTRIC_SLACK", glslFloat(kBarycentricSlack<float>));
+    s += define("CR_PC_MIN_FOOTPRINT_COSINE", glslFloat(c::kMinFootprintCosine));
+    s += define("CR_PC_LOCATE_TOLERANCE", glslFloat(c::kLocateTolerance));
+  }
   return s;
 }
 
@@ -135,7 +163,7 @@ inline constexpr const char* kVariantSwitchNames[] = {
     "CR_PARALLEL",    "CR_PLANAR",       "CR_PERSPECTIVE", "CR_AXIAL",    "CR_OCT_NORMALS",
     "CR_RGBA_NORMALS", "CR_COLORS",      "CR_SKIP",        "CR_SHADOWS",  "CR_REFLECTIONS",
     "CR_GATHER",      "CR_OUT_COLOR",    "CR_OUT_DEPTH",   "CR_OUT_NORMAL", "CR_OUT_MASK",
-    "CR_OUT_CELL",    "CR_OUT_STEPS",    "CR_SKIP_CENTRAL"};
+    "CR_OUT_CELL",    "CR_OUT_STEPS",    "CR_SKIP_CENTRAL", "CR_POLYCUBE"};
 inline constexpr int kVariantSwitchCount = int(std::size(kVariantSwitchNames));
 
 /// The value of each switch of kVariantSwitchNames for a variant.
@@ -157,7 +185,8 @@ inline std::array<bool, kVariantSwitchCount> variantSwitches(const ShaderVariant
           (v.channels & render::kMask) != 0,
           (v.channels & render::kCell) != 0,
           (v.channels & render::kSteps) != 0,
-          v.skipCentral && (v.perspective || v.axial)};
+          v.skipCentral && (v.perspective || v.axial),
+          v.polycube};
 }
 
 /// The variant's switches as GLSL constants (OpenGL): `const bool CR_SKIP = false;`.

@@ -62,7 +62,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     checkAlive();
     waitForFrame();
     releaseScene();
-    gpu::checkSupported(scene, "the Vulkan backend");
+    gpu::checkLights(scene, "the Vulkan backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     guard([&] { uploadScene(); });
@@ -78,7 +78,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     waitForFrame();
     mRendered = false;  // a render that fails leaves nothing to read back
     const bool rasterized =
-        mEntry == RayEntry::Rasterized && mContext->canRasterize() && gpu::eyeOutsideScene(mScene, camera);
+        mEntry == RayEntry::Rasterized && mContext->canRasterize() && gpu::rasterizedEntryServes(mScene, camera);
     checkFrameSize(options, rasterized);
     const gpu::ShaderVariant variant = variantFor(options);
     guard([&] {
@@ -135,13 +135,16 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   void createFixedObjects() {
     const Api& vk = mContext->api();
     const VkDevice device = mContext->device();
-    // One set: 0 the frame's uniforms, 1-4 the scene's tables, 5 the frame, 6-9 the map atlases.
+    // One set: 0 the frame's uniforms, 1-4 the scene's tables, 5 the frame, 6-9 the map atlases,
+    // 10 the polycube meshes' words, 11 their T2.
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     const VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     bindings.push_back({0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages, nullptr});
     for (std::uint32_t b = 1; b <= 5; ++b) bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
     for (std::uint32_t b = 6; b <= 9; ++b)
       bindings.push_back({b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
+    bindings.push_back({10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
+    bindings.push_back({11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
     auto setInfo = make<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
     setInfo.bindingCount = std::uint32_t(bindings.size());
     setInfo.pBindings = bindings.data();
@@ -154,8 +157,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     layoutInfo.pPushConstantRanges = &cover;
     check(vk.vkCreatePipelineLayout(device, &layoutInfo, nullptr, &mPipelineLayout), "vkCreatePipelineLayout");
     const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 5},
-                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4}};
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 6},
+                                           {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5}};
     auto poolInfo = make<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = 3;
@@ -175,6 +178,11 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     sampler.addressModeU = sampler.addressModeV = sampler.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
     sampler.maxLod = 0.0f;
     check(vk.vkCreateSampler(device, &sampler, nullptr, &mSampler), "vkCreateSampler");
+    // T2 of polycube meshes is UNORM and filtered by the hardware: its tiles' borders make bilinear
+    // reads seamless (polycube_texture.h); the levels are stacked in it, not a mip chain.
+    sampler.magFilter = VK_FILTER_LINEAR;
+    sampler.minFilter = VK_FILTER_LINEAR;
+    check(vk.vkCreateSampler(device, &sampler, nullptr, &mLinearSampler), "vkCreateSampler");
     mComputeModule = shaderModule(kReliefTraceCompSpv, sizeof kReliefTraceCompSpv);
     if (mContext->canRasterize()) {
       mFragmentModule = shaderModule(kReliefTraceFragSpv, sizeof kReliefTraceFragSpv);
@@ -225,13 +233,14 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
       const void* data;
       std::size_t bytes;
     };
-    const BufferUpload buffers[4] = {
+    const BufferUpload buffers[kBufferCount] = {
         {mGpu.models.data(), mGpu.models.size() * sizeof(gpu::ModelInfo)},
         {mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord)},
         {mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t)},
-        {mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t)}};
-    std::size_t offsets[4], total = 0;
-    for (int i = 0; i < 4; ++i) {
+        {mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t)},
+        {mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t)}};
+    std::size_t offsets[kBufferCount], total = 0;
+    for (int i = 0; i < kBufferCount; ++i) {
       offsets[i] = total;
       total += align(buffers[i].bytes);
       mBuffers[i] = mContext->createBuffer(buffers[i].bytes, storage, Memory::DeviceLocal);
@@ -239,11 +248,11 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     mContext->uploadThroughStaging(
         total,
         [&](char* staging) {
-          for (int i = 0; i < 4; ++i)
+          for (int i = 0; i < kBufferCount; ++i)
             if (buffers[i].bytes) std::memcpy(staging + offsets[i], buffers[i].data, buffers[i].bytes);
         },
         [&](VkCommandBuffer cmd, VkBuffer staging) {
-          for (int i = 0; i < 4; ++i) {
+          for (int i = 0; i < kBufferCount; ++i) {
             if (buffers[i].bytes == 0) continue;
             const VkBufferCopy region{offsets[i], 0, buffers[i].bytes};
             mContext->api().vkCmdCopyBuffer(cmd, staging, mBuffers[i].buffer, 1, &region);
@@ -262,6 +271,10 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     atlas(mAtlases[1], mGpu.normalsOct, VK_FORMAT_R16G16_UINT);
     atlas(mAtlases[2], mGpu.normalsRgba, VK_FORMAT_R8G8B8A8_UINT);
     atlas(mAtlases[3], mGpu.colors, VK_FORMAT_R8G8B8A8_UINT);
+    const gpu::PolycubeGpu& polycube = mGpu.polycube;
+    mAtlases[4] = mContext->createImage(VK_FORMAT_R8G8B8A8_UNORM, polycube.width, polycube.height, 1,
+                                        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+    images.push_back({&mAtlases[4], polycube.t2.data(), polycube.t2.size()});
     uploadImages(images);
     writeSceneDescriptors();
   }
@@ -326,11 +339,12 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
 
   void writeSceneDescriptors() {
     VkDescriptorBufferInfo uniforms{mParams.buffer, 0, VK_WHOLE_SIZE};
-    VkDescriptorBufferInfo tables[4];
-    for (int i = 0; i < 4; ++i) tables[i] = {mBuffers[i].buffer, 0, VK_WHOLE_SIZE};
-    VkDescriptorImageInfo maps[4];
+    VkDescriptorBufferInfo tables[kBufferCount];
+    for (int i = 0; i < kBufferCount; ++i) tables[i] = {mBuffers[i].buffer, 0, VK_WHOLE_SIZE};
+    VkDescriptorImageInfo maps[5];
     for (int i = 0; i < 4; ++i)
       maps[i] = {mSampler, mAtlases[i] ? mAtlases[i].view : mPlaceholder.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    maps[4] = {mLinearSampler, mAtlases[4].view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
     std::vector<VkWriteDescriptorSet> writes;
     auto write = [&](std::uint32_t binding, VkDescriptorType type, const VkDescriptorBufferInfo* buffer,
                      const VkDescriptorImageInfo* image) {
@@ -346,6 +360,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     write(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &uniforms, nullptr);
     for (std::uint32_t i = 0; i < 4; ++i) write(1 + i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tables[i], nullptr);
     for (std::uint32_t i = 0; i < 4; ++i) write(6 + i, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, nullptr, &maps[i]);
+    write(10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tables[4], nullptr);
+    write(11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, nullptr, &maps[4]);
     mContext->api().vkUpdateDescriptorSets(mContext->device(), std::uint32_t(writes.size()), writes.data(), 0, nullptr);
   }
 
@@ -667,12 +683,14 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     if (mFence) vk.vkDestroyFence(device, mFence, nullptr);
     if (mCommands) vk.vkFreeCommandBuffers(device, mContext->commandPool(), 1, &mCommands);
     if (mSampler) vk.vkDestroySampler(device, mSampler, nullptr);
+    if (mLinearSampler) vk.vkDestroySampler(device, mLinearSampler, nullptr);
     if (mDescriptorPool) vk.vkDestroyDescriptorPool(device, mDescriptorPool, nullptr);  // frees the set
     if (mPipelineLayout) vk.vkDestroyPipelineLayout(device, mPipelineLayout, nullptr);
     if (mSetLayout) vk.vkDestroyDescriptorSetLayout(device, mSetLayout, nullptr);
     mCoverPipeline = VK_NULL_HANDLE;
     mComputeModule = mFragmentModule = mCoverModule = mFullScreenModule = VK_NULL_HANDLE;
     mTimestamps = VK_NULL_HANDLE, mFence = VK_NULL_HANDLE, mCommands = VK_NULL_HANDLE, mSampler = VK_NULL_HANDLE;
+    mLinearSampler = VK_NULL_HANDLE;
     mDescriptorPool = VK_NULL_HANDLE, mPipelineLayout = VK_NULL_HANDLE, mSetLayout = VK_NULL_HANDLE;
   }
 
@@ -681,8 +699,9 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   render::Scene mScene;
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
-  Buffer mBuffers[4];  ///< models, cells, hash, pyramid
-  Image mAtlases[4];   ///< distances, octahedral normals, RGBA normals, colors
+  static constexpr int kBufferCount = 5;
+  Buffer mBuffers[kBufferCount];  ///< models, cells, hash, pyramid, polycube meshes
+  Image mAtlases[5];   ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   Image mPlaceholder, mStencil;
   Buffer mFrame, mReadback, mParams;
   VkDescriptorSetLayout mSetLayout = VK_NULL_HANDLE;
@@ -690,6 +709,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   VkDescriptorPool mDescriptorPool = VK_NULL_HANDLE;
   VkDescriptorSet mSet = VK_NULL_HANDLE;
   VkSampler mSampler = VK_NULL_HANDLE;
+  VkSampler mLinearSampler = VK_NULL_HANDLE;  ///< polycube T2
   VkShaderModule mComputeModule = VK_NULL_HANDLE, mFragmentModule = VK_NULL_HANDLE;
   VkShaderModule mCoverModule = VK_NULL_HANDLE, mFullScreenModule = VK_NULL_HANDLE;
   VkPipeline mCoverPipeline = VK_NULL_HANDLE;
