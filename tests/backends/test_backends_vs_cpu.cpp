@@ -19,6 +19,7 @@
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/frame_comparison.h>
 
+#include "backends/failure_images.h"
 #include "test_support.h"
 
 namespace cellrelief::render {
@@ -117,13 +118,7 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
       const bool ok = reportAndCheck(compareFrames(expected, actual, spacing),
                                      c.name + " view " + std::to_string(v) + " on " + std::string(backendName(kind)));
       if (!ok) {
-        const std::filesystem::path dir = std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "backend_failures";
-        std::filesystem::create_directories(dir);
-        const std::string stem = c.name + "_view" + std::to_string(v) + "_" + std::string(backendName(kind));
-        io::writePng(expected.color, dir / (stem + "_expected_cpu.png"));
-        io::writePng(actual.color, dir / (stem + "_actual.png"));
-        io::writePng(frameDiffImage(expected, actual, spacing), dir / (stem + "_diff.png"));
-        std::printf("wrote %s/%s_{expected_cpu,actual,diff}.png\n", dir.c_str(), stem.c_str());
+        test::writeFailureImages(expected, actual, spacing, c.name + "_view" + std::to_string(v) + "_" + std::string(backendName(kind)));
       }
     }
   }

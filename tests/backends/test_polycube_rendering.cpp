@@ -16,6 +16,7 @@
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/render/frame_comparison.h>
 
+#include "backends/failure_images.h"
 #include "test_support.h"
 
 namespace cellrelief::render {
@@ -249,13 +250,7 @@ TEST(PolycubeRendering, GpuBackendsAgreeWithTheCpuReferencePerPixel) {
       EXPECT_LE(a.p99Color, kP99ColourBound) << what;
       EXPECT_EQ(a.cellFraction, 0.0) << what;
       if (a.maskFraction > kMaskBound || a.meanColor > kMeanColourBound || a.p99Color > kP99ColourBound) {
-        const std::filesystem::path dir = std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "backend_failures";
-        std::filesystem::create_directories(dir);
-        const std::string stem = "polycube_view" + std::to_string(v) + "_" + std::string(backendName(kind));
-        io::writePng(expected.color, dir / (stem + "_expected_cpu.png"));
-        io::writePng(actual.color, dir / (stem + "_actual.png"));
-        io::writePng(frameDiffImage(expected, actual, spacing), dir / (stem + "_diff.png"));
-        std::printf("wrote %s/%s_{expected_cpu,actual,diff}.png\n", dir.c_str(), stem.c_str());
+        test::writeFailureImages(expected, actual, spacing, "polycube_view" + std::to_string(v) + "_" + std::string(backendName(kind)));
       }
     }
   }

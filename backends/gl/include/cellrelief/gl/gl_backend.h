@@ -232,15 +232,21 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     return buffer;
   }
 
-  template <class T>
-  static GLuint atlasTexture(const gpu::Atlas<T>& atlas, GLenum internalFormat, GLenum format, GLenum type) {
+  /// A 2D array texture clamped to its edges, with one filter for both directions.
+  static GLuint arrayTexture(GLenum filter) {
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GLint(filter));
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GLint(filter));
     glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    return texture;
+  }
+
+  template <class T>
+  static GLuint atlasTexture(const gpu::Atlas<T>& atlas, GLenum internalFormat, GLenum format, GLenum type) {
+    const GLuint texture = arrayTexture(GL_NEAREST);
     if (atlas.empty()) {  // an unused map: a 1 x 1 placeholder keeps the binding complete
       glTextureStorage3D(texture, 1, internalFormat, 1, 1, 1);
       const std::uint32_t zero[2] = {0, 0};
@@ -257,13 +263,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   /// borders make bilinear reads seamless, polycube_texture.h); no mip chain (the levels are
   /// stacked in the texture).
   static GLuint polycubeTexture(const gpu::PolycubeGpu& p) {
-    GLuint texture = 0;
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture);
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    const GLuint texture = arrayTexture(GL_LINEAR);
     glTextureStorage3D(texture, 1, GL_RGBA8, p.width, p.height, 1);
     glTextureSubImage3D(texture, 0, 0, 0, 0, p.width, p.height, 1, GL_RGBA, GL_UNSIGNED_BYTE, p.t2.data());
     return texture;
