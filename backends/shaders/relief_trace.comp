@@ -1362,6 +1362,7 @@ void pcShade(int mesh, MeshHit h, vec3 direction, float spread, out vec3 normal,
   const vec3 n = w0 * pcVec3(v0 + 3u) + w1 * pcVec3(v1 + 3u) + w2 * pcVec3(v2 + 3u);
   normal = length(n) > 0.0 ? n / length(n) : normalize(h.ng);
   base = vec3(200.0 / 255.0);
+  if (pcInfo(mesh, CR_PC_USE) == 2u) return;  // TextureUse::None
   const vec3 texturePosition = w0 * pcVec3(v0 + 6u) + w1 * pcVec3(v1 + 6u) + w2 * pcVec3(v2 + 6u);
   const float cosine = abs(dot(normalize(direction), normalize(h.ng)));
   const float footprint = spread * h.t * length(direction) / max(cosine, CR_PC_MIN_FOOTPRINT_COSINE);

@@ -18,6 +18,7 @@ namespace cellrelief::polycube {
 enum class TextureUse {
   Color,   ///< the surface's colour; the mesh's vertex normals shade it
   Normal,  ///< world-space unit normals as RGB = 0.5 + 0.5 n (a fine mesh's, on a coarse one)
+  None,    ///< not read: the mesh in grey with its vertex normals (what texturing is measured against)
 };
 
 struct TexturedMesh {

@@ -90,6 +90,7 @@ class PolycubeTracer {
     const Vec3f interpolated = w0 * mNormals[tri[0]] + w1 * mNormals[tri[1]] + w2 * mNormals[tri[2]];
     const float length = glm::length(interpolated);
     hit.normal = length > 0 ? interpolated / length : glm::normalize(h.geometricNormal);
+    if (mMesh->use == polycube::TextureUse::None) return hit;
     const Vec3f texture = w0 * mMesh->texture[tri[0]] + w1 * mMesh->texture[tri[1]] + w2 * mMesh->texture[tri[2]];
     const float cosine = std::abs(glm::dot(glm::normalize(ray.direction), glm::normalize(h.geometricNormal)));
     const float footprint = spread * h.t * glm::length(ray.direction) / std::max(cosine, constants::kMinFootprintCosine);

@@ -47,7 +47,7 @@ enum MeshWord : int {
   kTexels = 10,
   kLevels = 11,
   kTilesPerRow = 12,
-  kUse = 13,     ///< 0 colour, 1 normals
+  kUse = 13,     ///< 0 colour, 1 normals, 2 none (T2 not read)
   kFilter = 14,  ///< polycube::TextureFilter
   kSurfaceOffset = 15,
   kLevelRow = 16,  ///< kMaxLevels rows of the texture where each level starts
@@ -157,7 +157,7 @@ inline PolycubeGpu packPolycubeMeshes(const render::Scene& scene, int maxTexture
     setInfo(kTexels, std::uint32_t(t2.texelsPerSquarelet()));
     setInfo(kLevels, std::uint32_t(t2.levelCount()));
     setInfo(kTilesPerRow, t2.tilesPerRow());
-    setInfo(kUse, mesh.use == polycube::TextureUse::Normal ? 1u : 0u);
+    setInfo(kUse, mesh.use == polycube::TextureUse::Color ? 0u : mesh.use == polycube::TextureUse::Normal ? 1u : 2u);
     setInfo(kFilter, std::uint32_t(mesh.filter));
     setInfo(kSurfaceOffset, detail::floatWord(tracer.surfaceOffset()));
     for (int level = 0; level < t2.levelCount(); ++level)
