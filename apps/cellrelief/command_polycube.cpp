@@ -19,6 +19,7 @@
 #include <cellrelief/polycube/mesh_signal.h>
 #include <cellrelief/polycube/parameterization.h>
 #include <cellrelief/polycube/polycube_file.h>
+#include <cellrelief/polycube/polycube_result.h>
 
 #include "commands.h"
 #include "preview.h"
@@ -244,14 +245,15 @@ int runPolycube(const PolycubeCommandOptions& o) {
   polycube::writeTexturedMesh(mesh, map.texture, dir / "mesh_texture.obj");
   writePreview(meshByTexture(mesh, map.texture, domain), dir / "polycube_map.png");
   writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
-  io::writePng(t2->atlas(), dir / "polycube_texture.png");
+  io::writePng(t2->atlas(), dir / polycube::kResultTexture);
+  polycube::writeTextureInfo(use, dir / polycube::kResultTextureInfo);
   io::writePng(picture, dir / "polycube_render.png");
   if (!coarsePicture.isEmpty()) io::writePng(coarsePicture, dir / "polycube_render_lod.png");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "
               "case: 3 red, 4a grey, 4b blue, 5 yellow, 6a green, 6b purple), mesh_texture.obj (vt: texture "
               "positions in lattice coordinates), polycube_map.png (the mesh coloured by its map: hue by the face's "
               "direction, a checker of squarelets), distortion.csv, polycube_texture.png (T2: a tile per squarelet with a "
-              "border, mip levels below), polycube_render.png (the CPU reference's render)%s\n", dir.string().c_str(),
+              "border, mip levels below) and .txt (what it holds), polycube_render.png (the CPU reference's render)%s\n", dir.string().c_str(),
               coarsePicture.isEmpty() ? "" : ", polycube_render_lod.png (a decimation, the same map and T2)");
   return 0;
 }

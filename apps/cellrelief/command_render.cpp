@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file command_render.cpp
-/// `cellrelief render <model.crm | mesh> -o out.png`: ray casts a relief model on a backend and
-/// writes the color image, and on request the depth and normal buffers. A mesh is converted at
-/// default settings first, so any mesh can be looked at in one command.
+/// `cellrelief render <model.crm | mesh | polycube folder> -o out.png`: ray casts a relief model,
+/// or a mesh textured through its polycube map, on a backend and writes the color image, and on
+/// request the depth and normal buffers. A mesh is converted at default settings first, so any
+/// mesh can be looked at in one command.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <cellrelief/backends/backend_table.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
+#include <cellrelief/polycube/polycube_result.h>
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/relief/model_file.h>
 
@@ -98,6 +100,17 @@ std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& inpu
   return model;
 }
 
+render::Scene loadScene(const std::string& input) {
+  if (!polycube::isPolycubeResult(input)) return render::Scene::of(loadOrConvert(input));
+  render::Scene scene;
+  scene.polycubeMeshes.push_back(polycube::readPolycubeResult(input));
+  const polycube::TexturedMesh& m = *scene.polycubeMeshes.back();
+  std::printf("polycube map  %s: %zu triangles, %zu cubes, T2 of %d texels per squarelet (%s)\n", input.c_str(),
+              m.mesh.triangleCount(), m.t2->surface().polycube().size(), m.t2->texelsPerSquarelet(),
+              m.use == polycube::TextureUse::Normal ? "normals" : "colour");
+  return scene;
+}
+
 namespace {
 
 Image<std::uint8_t> depthImage(const render::Frame& frame) {
@@ -128,7 +141,7 @@ Image<std::uint8_t> normalImage(const render::Frame& frame) {
 int runRender(const RenderCli& o) {
   const auto [width, height] = parseImageSize(o.size);
   auto backend = backends::createBackend(render::parseBackendKind(o.backend), {.vulkanDevice = o.device});
-  const render::Scene scene = render::Scene::of(loadOrConvert(o.input));
+  const render::Scene scene = loadScene(o.input);
   render::RenderOptions options;
   options.width = width;
   options.height = height;
@@ -187,7 +200,9 @@ void renderModelPicture(std::shared_ptr<const relief::ReliefModel> model,
 Command addRenderCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
   auto o = std::make_shared<RenderCli>();
-  cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("model", o->input,
+                  "Relief model (.crm), mesh (.obj .ply .off .stl), or a folder written by `cellrelief polycube`")
+      ->required();
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);

@@ -162,7 +162,7 @@ Image<std::uint8_t> readWindow(int width, int height) {
 
 int runView(const ViewCli& o) {
   const auto [width, height] = parseImageSize(o.size);
-  const render::Scene scene = render::Scene::of(loadOrConvert(o.input));
+  const render::Scene scene = loadScene(o.input);
   const Aabbd bounds = scene.boundsWS();
   ViewerState state;
   {
@@ -304,7 +304,9 @@ Command addViewCommand(CLI::App& app) {
       "view", "Show a relief model in a window: orbit, pan, zoom; keys 1/2/3 switch the backend (cpu, opengl, "
               "vulkan), S shadows, K skipping, C channel (color, depth, normal, cell id, steps), P screenshot");
   auto o = std::make_shared<ViewCli>();
-  cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("model", o->input,
+                  "Relief model (.crm), mesh (.obj .ply .off .stl), or a folder written by `cellrelief polycube`")
+      ->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);
   cmd->add_option("--size", o->size, "Window size WxH")->capture_default_str();

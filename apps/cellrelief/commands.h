@@ -18,6 +18,7 @@
 #include <cellrelief/core/aabb.h>
 #include <cellrelief/projection/choice.h>
 #include <cellrelief/render/camera.h>
+#include <cellrelief/render/scene.h>
 
 namespace cellrelief::relief {
 struct ReliefModel;
@@ -87,6 +88,10 @@ auto withPath(const std::string& input, Work&& work) {
 /// A relief model read from a .crm file, or converted at default settings from a mesh (printing
 /// one line about the conversion).
 std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input);
+
+/// The scene `render` and `view` show: a `cellrelief polycube` output folder (its mesh textured
+/// through its polycube map), else the relief model of loadOrConvert.
+render::Scene loadScene(const std::string& input);
 
 Command addCompareBackendsCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);

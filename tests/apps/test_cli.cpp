@@ -150,6 +150,24 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   EXPECT_EQ(again.status, 0) << again.output;
   EXPECT_TRUE(test::hasWords(again.output, "8 texels per squarelet")) << again.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "again" / "polycube_render_lod.png"));
+  // `render` takes the folder: the mesh textured through its map, on the CPU and on a GPU backend.
+  for (const char* backend : {"cpu", "vulkan"}) {
+    const auto png = dir / (std::string("render_") + backend + ".png");
+    const Result rendered =
+        run("render " + (dir / "again").string() + " --backend " + backend + " --size 96x96 -o " + png.string());
+    if (backend != std::string("cpu") && !test::inCI() && rendered.status != 0) continue;  // no Vulkan here
+    EXPECT_EQ(rendered.status, 0) << rendered.output;
+    EXPECT_TRUE(test::hasWords(rendered.output, "polycube map")) << rendered.output;
+    EXPECT_TRUE(test::hasWords(rendered.output, "(normals)")) << rendered.output;
+    EXPECT_TRUE(std::filesystem::exists(png));
+  }
+  // A T2 that is not this polycube's is refused, naming the file.
+  std::filesystem::copy_file(dir / "auto" / "polycube_cases.png", dir / "again" / "polycube_texture.png",
+                             std::filesystem::copy_options::overwrite_existing);
+  const Result wrongT2 = run("render " + (dir / "again").string() + " -o " + (dir / "wrong.png").string());
+  EXPECT_EQ(wrongT2.status, 1) << wrongT2.output;
+  EXPECT_TRUE(test::hasWords(wrongT2.output, "polycube_texture.png")) << wrongT2.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "wrong.png"));
   test::writeBytes(dir / "box.txt", "0 0 0\n1 0 0\n");
   test::writeBytes(dir / "edge.txt", "0 0 0\n1 1 0\n");
   test::writeBytes(dir / "bad.txt", "0 0 0\n1 zero 0\n");

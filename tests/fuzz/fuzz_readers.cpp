@@ -138,4 +138,18 @@ bool readPolycubeBytes(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+bool readPolycubeMapBytes(const std::uint8_t* data, std::size_t size) {
+  const std::filesystem::path& path = scratchFor(".obj").write(data, size);
+  try {
+    const polycube::TexturedMeshFile file = polycube::readTexturedMesh(path);
+    file.mesh.validate();
+    if (file.texture.size() != file.mesh.positions.size() || file.mesh.triangles.empty()) std::abort();
+    for (const Vec3d& t : file.texture)
+      if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z)) std::abort();  // promised finite
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
 }  // namespace cellrelief::fuzz

@@ -27,5 +27,8 @@ bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum
 /// Reads the bytes as a polycube cube file (.txt) and checks its surface as `cellrelief polycube
 /// --cubes` does.
 bool readPolycubeBytes(const std::uint8_t* data, std::size_t size);
+/// Reads the bytes as a mesh with its polycube texture positions (mesh_texture.obj, `v`, `vt u v
+/// w`, `f a/t b/t c/t`) and checks what was read as a renderer would.
+bool readPolycubeMapBytes(const std::uint8_t* data, std::size_t size);
 
 }  // namespace cellrelief::fuzz

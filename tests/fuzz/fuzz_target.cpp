@@ -12,6 +12,7 @@
 #define CELLRELIEF_FUZZ_IMAGE 2
 #define CELLRELIEF_FUZZ_MODEL 3
 #define CELLRELIEF_FUZZ_POLYCUBE 4
+#define CELLRELIEF_FUZZ_POLYCUBE_MAP 5
 
 /// Decoding costs about 0.3 us a pixel in the release build and 20 times that under ASan and
 /// UBSan, so an image of more than 2^18 pixels (a 2.9 KB JPEG can claim 625,000) passes the 1 s
@@ -31,8 +32,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cellrelief::fuzz::readModelBytes(data, size, size > 0 && (data[size - 1] & 1));
 #elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_POLYCUBE
   cellrelief::fuzz::readPolycubeBytes(data, size);
+#elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_POLYCUBE_MAP
+  cellrelief::fuzz::readPolycubeMapBytes(data, size);
 #else
-#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE, _MODEL or _POLYCUBE"
+#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE, _MODEL, _POLYCUBE or _POLYCUBE_MAP"
 #endif
   return 0;
 }

@@ -193,6 +193,21 @@ void polycubeSeeds(const fs::path& root) {
   std::ofstream(dir / "l_shape.txt") << "# an L\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n";
 }
 
+/// Meshes with their polycube texture positions: a ring's surface mapped onto itself, and a
+/// triangle written with negative indices.
+void polycubeMapSeeds(const fs::path& root) {
+  const fs::path dir = root / "polycube_map";
+  fs::create_directories(dir);
+  std::vector<Vec3i> ring;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x)
+      if (x != 1 || y != 1) ring.push_back({x, y, 0});
+  const TriangleMesh surface = polycube::Polycube(ring).surfaceMesh();
+  const std::vector<Vec3d> texture(surface.positions.begin(), surface.positions.end());
+  polycube::writeTexturedMesh(surface, texture, dir / "ring.obj");
+  std::ofstream(dir / "negative.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0\nvt 0 1 0\nf -3/-3 -2/-2 -1/-1\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,6 +221,7 @@ int main(int argc, char** argv) {
     imageSeeds(root);
     modelSeeds(root);
     polycubeSeeds(root);
+    polycubeMapSeeds(root);
     std::cout << "fuzz seeds written under " << root << "\n";
     return 0;
   } catch (const std::exception& e) {

@@ -20,7 +20,8 @@ namespace {
 
 const fs::path kFuzzDir = CELLRELIEF_FUZZ_DIR;
 const std::vector<std::string> kTargets{"obj",  "ply_ascii", "ply_binary", "off", "stl_ascii", "stl_binary",
-                                        "png",  "jpeg",      "tga",        "bmp", "crm", "polycube"};
+                                        "png",  "jpeg",      "tga",        "bmp", "crm", "polycube",
+                                        "polycube_map"};
 
 std::vector<std::uint8_t> bytesOf(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -32,6 +33,7 @@ bool readAs(const std::string& target, const std::vector<std::uint8_t>& b) {
   using namespace cellrelief::fuzz;
   if (target == "crm") return readModelBytes(b.data(), b.size(), false);
   if (target == "polycube") return readPolycubeBytes(b.data(), b.size());
+  if (target == "polycube_map") return readPolycubeMapBytes(b.data(), b.size());
   const std::string ext = target.substr(0, target.find('_'));
   if (target == "png" || target == "jpeg" || target == "tga" || target == "bmp")
     return readImageBytes(target == "jpeg" ? ".jpg" : "." + ext, b.data(), b.size());
@@ -85,6 +87,6 @@ TEST_P(FuzzTarget, TruncatedSeedsAreRefusedWhereTheFormatCanTell) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Readers, FuzzTarget, testing::ValuesIn(kTargets),
-                         [](const auto& info) { return info.param; });
+                         [](const testing::TestParamInfo<std::string>& target) { return target.param; });
 
 }  // namespace

@@ -189,5 +189,42 @@ TEST(PolycubeFile, BadFilesAreRefusedNamingFileAndLine) {
   EXPECT_THROW(readPolycube(dir / "missing.txt"), Error);
 }
 
+TEST(PolycubeFile, TexturedMeshesRoundTripAndBadOnesAreRefusedNamingFileAndLine) {
+  test::TempDir dir;
+  const TriangleMesh surface = Polycube(box(2, 1, 1, {0, 0, 0})).surfaceMesh();
+  std::vector<Vec3d> texture;
+  for (const Vec3f& p : surface.positions) texture.push_back(Vec3d(p) + Vec3d(0.0, 0.0, 1.0 / 3.0));
+  writeTexturedMesh(surface, texture, dir / "m.obj");
+  const TexturedMeshFile file = readTexturedMesh(dir / "m.obj");
+  ASSERT_EQ(file.mesh.positions.size(), surface.positions.size());
+  EXPECT_EQ(file.mesh.triangles, surface.triangles);
+  for (std::size_t v = 0; v < texture.size(); ++v) EXPECT_LT(glm::length(file.texture[v] - texture[v]), 1e-11);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nf 1/1 2/1 3\n", "line 5"},                 // a corner without vt
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nf 1/1 2/1 4/1\n", "out of range"},         // vertex 4
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nf 1/1 2/1 3/2\n", "out of range"},         // vt 2
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n", "line 4"},                                 // vt of two numbers
+      {"v 0 0 nan\n", "finite"},
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0\nf 1/1 2/1 3/1\nf 1/2 2/1 3/1\n", "two texture positions"},
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nf 1/1 2/1 3/1 3/1\n", "triangle"},
+      {"v 0 0 0\nvn 0 0 1\n", "expected v, vt or f"},
+      {"v 0 0 0\n", "no triangles"},
+      {"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 1\nvt 0 0 0\nf 1/1 2/1 3/1\n", "in no triangle"},
+  };
+  for (const auto& [text, words] : cases) {
+    const std::filesystem::path path = dir / "bad.obj";
+    test::writeBytes(path, text);
+    try {
+      readTexturedMesh(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("bad.obj"), std::string::npos) << what;
+      EXPECT_NE(what.find(words), std::string::npos) << what;
+    }
+  }
+  EXPECT_THROW(readTexturedMesh(dir / "missing.obj"), Error);
+}
+
 }  // namespace
 }  // namespace cellrelief::polycube

@@ -136,4 +136,80 @@ inline void writeTexturedMesh(const TriangleMesh& mesh, std::span<const Vec3d> t
   });
 }
 
+/// A mesh with one 3D texture position per vertex, as writeTexturedMesh writes it.
+struct TexturedMeshFile {
+  TriangleMesh mesh;
+  std::vector<Vec3d> texture;
+};
+
+/// Reads what writeTexturedMesh wrote: `v x y z`, `vt u v w`, `f a/t b/t c/t` (triangles, 1-based
+/// or negative indices). Every corner of a vertex must name the same texture position. Refuses,
+/// naming the file and line, anything else.
+inline TexturedMeshFile readTexturedMesh(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorKind::FileNotFound, path, "no such file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::FileNotFound, path, "cannot open the file");
+  TexturedMeshFile file;
+  std::vector<Vec3d> vts;
+  std::vector<std::int64_t> vertexVt;  // per vertex: its texture position's index, -1 while unknown
+  std::string line;
+  std::size_t number = 0;
+  auto fail = [&](const std::string& what) {
+    throw Error(ErrorKind::FileFormat, path, "line " + std::to_string(number) + ": " + what);
+  };
+  auto readVec3 = [&](const std::vector<std::string_view>& f, const char* what) {
+    Vec3d v;
+    if (f.size() != 4 || !io::detail::parseFinite(f[1], v.x) || !io::detail::parseFinite(f[2], v.y) ||
+        !io::detail::parseFinite(f[3], v.z))
+      fail(std::string("expected '") + what + " x y z' with three finite numbers");
+    return v;
+  };
+  auto index = [&](std::string_view text, std::size_t count, const char* what) {
+    int i = 0;
+    if (!detail::parseInt(text, i) || i == 0) fail(std::string("bad ") + what + " index '" + std::string(text) + "'");
+    const long long resolved = i > 0 ? i - 1 : (long long)count + i;
+    if (resolved < 0 || resolved >= (long long)count)
+      fail(std::string(what) + " index " + std::to_string(i) + " is out of range (" + std::to_string(count) + ")");
+    return std::size_t(resolved);
+  };
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.size() > 4096) fail("longer than 4096 characters");
+    const std::vector<std::string_view> f = detail::fields(line);
+    if (f.empty() || f[0].front() == '#') continue;
+    if (f[0] == "v") {
+      file.mesh.positions.push_back(Vec3f(readVec3(f, "v")));
+      vertexVt.push_back(-1);
+    } else if (f[0] == "vt") {
+      vts.push_back(readVec3(f, "vt u v"));
+    } else if (f[0] == "f") {
+      if (f.size() != 4) fail("expected a triangle 'f a/t b/t c/t'");
+      Vec3u t;
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t slash = f[1 + k].find('/');
+        if (slash == std::string_view::npos) fail("a corner without a texture position ('a/t')");
+        const std::size_t v = index(f[1 + k].substr(0, slash), file.mesh.positions.size(), "vertex");
+        const std::size_t vt = index(f[1 + k].substr(slash + 1), vts.size(), "texture position");
+        if (vertexVt[v] >= 0 && std::size_t(vertexVt[v]) != vt && vts[std::size_t(vertexVt[v])] != vts[vt])
+          fail("vertex " + std::to_string(v + 1) + " has two texture positions; a polycube map gives one per vertex");
+        vertexVt[v] = std::int64_t(vt);
+        t[k] = std::uint32_t(v);
+      }
+      file.mesh.triangles.push_back(t);
+    } else {
+      fail("expected v, vt or f, got '" + std::string(f[0]) + "'");
+    }
+  }
+  if (in.bad()) throw Error(ErrorKind::FileFormat, path, "read error");
+  if (file.mesh.triangles.empty()) throw Error(ErrorKind::FileFormat, path, "no triangles in the file");
+  file.texture.resize(file.mesh.positions.size());
+  for (std::size_t v = 0; v < vertexVt.size(); ++v) {
+    if (vertexVt[v] < 0) throw Error(ErrorKind::FileFormat, path, "vertex " + std::to_string(v + 1) + " is in no triangle");
+    file.texture[v] = vts[std::size_t(vertexVt[v])];
+  }
+  file.mesh.sourcePolygons = file.mesh.triangles.size();
+  return file;
+}
+
 }  // namespace cellrelief::polycube

@@ -86,6 +86,11 @@ class PolycubeTexture {
   PolycubeTexture(std::shared_ptr<const PolycubeSurface> surface, const SurfaceSignal& signal,
                   const TextureOptions& options = {});
 
+  /// T2 as written before (polycubeTexture.atlas(), e.g. read back from a PNG): S is the one
+  /// whose layout has the image's size. Throws InvalidInput when no S fits or the image is not
+  /// RGBA8.
+  static PolycubeTexture fromAtlas(std::shared_ptr<const PolycubeSurface> surface, Image<std::uint8_t> atlas);
+
   const PolycubeSurface& surface() const { return *mSurface; }
   std::shared_ptr<const PolycubeSurface> sharedSurface() const { return mSurface; }
   int texelsPerSquarelet() const { return mTexels; }
@@ -148,6 +153,8 @@ class PolycubeTexture {
   }
 
  private:
+  PolycubeTexture() = default;
+
   struct Level {
     int texels = 0;  ///< S_k
     int row = 0;     ///< first atlas row
@@ -176,7 +183,8 @@ class PolycubeTexture {
     std::uint32_t tile;
   };
   std::vector<SquareletRef> listSquarelets() const;
-  void layOut(const TextureOptions& options);
+  /// Sets the levels and tiles per row for these options; returns the atlas's size.
+  Vec2i layOut(const TextureOptions& options);
   void bakeLevelZero(const std::vector<SquareletRef>& squarelets, const SurfaceSignal& signal);
   void reduceLevel(const std::vector<SquareletRef>& squarelets, int level);
   void fillBorders(const std::vector<SquareletRef>& squarelets, int level);

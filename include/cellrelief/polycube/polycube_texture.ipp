@@ -10,7 +10,8 @@ inline PolycubeTexture::PolycubeTexture(std::shared_ptr<const PolycubeSurface> s
     : mSurface(std::move(surface)) {
   if (!mSurface) throw Error(ErrorKind::InvalidArgument, "polycube texture: no surface");
   if (!signal) throw Error(ErrorKind::InvalidArgument, "polycube texture: no signal to bake");
-  layOut(options);
+  const Vec2i size = layOut(options);
+  mAtlas = Image<std::uint8_t>(size.x, size.y, 4);
   const std::vector<SquareletRef> squarelets = listSquarelets();
   bakeLevelZero(squarelets, signal);
   fillBorders(squarelets, 0);
@@ -18,6 +19,27 @@ inline PolycubeTexture::PolycubeTexture(std::shared_ptr<const PolycubeSurface> s
     reduceLevel(squarelets, level);
     fillBorders(squarelets, level);
   }
+}
+
+inline PolycubeTexture PolycubeTexture::fromAtlas(std::shared_ptr<const PolycubeSurface> surface,
+                                                  Image<std::uint8_t> atlas) {
+  if (!surface) throw Error(ErrorKind::InvalidArgument, "polycube texture: no surface");
+  if (atlas.isEmpty() || atlas.channels() != 4)
+    throw Error(ErrorKind::InvalidInput, "polycube texture: T2 must be an RGBA image of 8 bits per channel");
+  PolycubeTexture t;
+  t.mSurface = std::move(surface);
+  for (int s = 1; s <= 256; s *= 2) {
+    TextureOptions options{s};
+    options.maxAtlasSize = 1 << 30;
+    if (t.layOut(options) == Vec2i(atlas.width(), atlas.height())) {
+      t.mAtlas = std::move(atlas);
+      return t;
+    }
+  }
+  throw Error(ErrorKind::InvalidInput, "polycube texture: a " + std::to_string(atlas.width()) + " x " +
+                                           std::to_string(atlas.height()) + " image is not T2 of this polycube (" +
+                                           std::to_string(t.mSurface->lut().tileCount()) +
+                                           " squarelets) at any S from 1 to 256");
 }
 
 inline std::vector<PolycubeTexture::SquareletRef> PolycubeTexture::listSquarelets() const {
@@ -37,7 +59,7 @@ inline std::vector<PolycubeTexture::SquareletRef> PolycubeTexture::listSquarelet
   return out;
 }
 
-inline void PolycubeTexture::layOut(const TextureOptions& options) {
+inline Vec2i PolycubeTexture::layOut(const TextureOptions& options) {
   const int s = options.texelsPerSquarelet;
   if (s < 1 || s > 256 || (s & (s - 1)) != 0)
     throw Error(ErrorKind::InvalidArgument, "polycube texture: texels per squarelet must be a power of two from 1 to 256, not " +
@@ -59,7 +81,7 @@ inline void PolycubeTexture::layOut(const TextureOptions& options) {
                                               std::to_string(s) + " texels need a " + std::to_string(width) + " x " +
                                               std::to_string(row) + " atlas, more than " +
                                               std::to_string(options.maxAtlasSize) + " a side; use fewer texels per squarelet");
-  mAtlas = Image<std::uint8_t>(int(width), int(row), 4);
+  return {int(width), int(row)};
 }
 
 inline void PolycubeTexture::bakeLevelZero(const std::vector<SquareletRef>& squarelets, const SurfaceSignal& signal) {
