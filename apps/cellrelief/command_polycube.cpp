@@ -34,22 +34,25 @@ struct PolycubeCommandOptions {
   int texels = 16;
 };
 
+/// The mesh signal --signal names; nothing for the grid. Checked before any work is done.
+std::optional<polycube::MeshSignalKind> parseSignal(const PolycubeCommandOptions& o, const TriangleMesh& mesh) {
+  if (o.signal == "grid") return std::nullopt;
+  for (auto k : {polycube::MeshSignalKind::Normal, polycube::MeshSignalKind::Shading, polycube::MeshSignalKind::Color})
+    if (polycube::toString(k) == o.signal) {
+      if (k == polycube::MeshSignalKind::Color && !mesh.hasColors())
+        throw Error(ErrorKind::InvalidInput, o.mesh, "--signal color: the mesh has no vertex colours");
+      return k;
+    }
+  throw Error(ErrorKind::InvalidArgument, "--signal: '" + o.signal + "' is not grid, normals, shading or color");
+}
+
 /// T2 of the chosen signal: the paper's grid pattern, or the mesh's normals, shading or colours.
-polycube::PolycubeTexture bakeSignal(const PolycubeCommandOptions& o, const TriangleMesh& mesh,
-                                     std::span<const Vec3d> texture,
+polycube::PolycubeTexture bakeSignal(const PolycubeCommandOptions& o, std::optional<polycube::MeshSignalKind> kind,
+                                     const TriangleMesh& mesh, std::span<const Vec3d> texture,
                                      std::shared_ptr<const polycube::PolycubeSurface> surface) {
-  polycube::SurfaceSignal signal;
-  if (o.signal == "grid") {
-    signal = polycube::gridSignalFor(o.texels);
-  } else {
-    std::optional<polycube::MeshSignalKind> kind;
-    for (auto k : {polycube::MeshSignalKind::Normal, polycube::MeshSignalKind::Shading, polycube::MeshSignalKind::Color})
-      if (polycube::toString(k) == o.signal) kind = k;
-    if (!kind) throw Error(ErrorKind::InvalidArgument, "--signal: '" + o.signal + "' is not grid, normals, shading or color");
-    if (*kind == polycube::MeshSignalKind::Color && !mesh.hasColors())
-      throw Error(ErrorKind::InvalidInput, o.mesh, "--signal color: the mesh has no vertex colours");
-    signal = polycube::meshSignal(std::make_shared<const polycube::InverseMap>(mesh, texture), *kind);
-  }
+  const polycube::SurfaceSignal signal =
+      kind ? polycube::meshSignal(std::make_shared<const polycube::InverseMap>(mesh, texture), *kind)
+           : polycube::gridSignalFor(o.texels);
   return polycube::PolycubeTexture(std::move(surface), signal, {o.texels});
 }
 
@@ -187,6 +190,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
 
   const std::optional<polycube::PolycubeEnergy> energy = polycube::parsePolycubeEnergy(o.energy);
   if (!energy) throw Error(ErrorKind::InvalidArgument, "--energy: '" + o.energy + "' is not mvc, mips or extended-mips");
+  const std::optional<polycube::MeshSignalKind> signalKind = parseSignal(o, mesh);
   const auto sharedDomain = withPath(o.cubes.empty() ? o.mesh : o.cubes, [&] {
     return std::make_shared<const polycube::PolycubeSurface>(cubes);
   });
@@ -216,7 +220,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
                     "more --sweeps or a polycube of your own (--cubes)");
 
   const auto t2 = std::make_shared<const polycube::PolycubeTexture>(
-      withPath(o.mesh, [&] { return bakeSignal(o, mesh, map.texture, sharedDomain); }));
+      withPath(o.mesh, [&] { return bakeSignal(o, signalKind, mesh, map.texture, sharedDomain); }));
   std::printf("T2            %s, %d texels per squarelet, %u squarelets, %d x %d texels with %d mip levels (%.1f MB)\n",
               o.signal.c_str(), o.texels, domain.lut().tileCount(), t2->atlas().width(), t2->atlas().height(),
               t2->levelCount(), t2->byteSize() / 1e6);
@@ -246,7 +250,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
   writePreview(meshByTexture(mesh, map.texture, domain), dir / "polycube_map.png");
   writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
   io::writePng(t2->atlas(), dir / polycube::kResultTexture);
-  polycube::writeTextureInfo(use, dir / polycube::kResultTextureInfo);
+  polycube::writeTextureInfo(*t2, use, dir / polycube::kResultTextureInfo);
   io::writePng(picture, dir / "polycube_render.png");
   if (!coarsePicture.isEmpty()) io::writePng(coarsePicture, dir / "polycube_render_lod.png");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "

@@ -1115,6 +1115,29 @@ uvec3 pcTriangle(int mesh, int triangle) {
 }
 uint pcVertex(int mesh, uint v) { return pcInfo(mesh, CR_PC_VERTEX_OFFSET) + v * uint(CR_PC_VERTEX_WORDS); }
 
+// core/aabb.h intersect: the slab test of the CPU, exactly (a zero direction component decided by
+// the origin alone, the far distance widened against rounding), so flat boxes are not missed.
+bool pcBoxReached(vec3 o, vec3 d, vec3 inv, vec3 lo, vec3 hi, float tmax) {
+  float t0 = 0.0, t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return false;
+      continue;
+    }
+    float tNear = (lo[a] - o[a]) * inv[a], tFar = (hi[a] - o[a]) * inv[a];
+    if (tNear > tFar) {
+      const float swapped = tNear;
+      tNear = tFar;
+      tFar = swapped;
+    }
+    tFar *= 1.0 + 2.0 * CR_GAMMA3;
+    t0 = max(t0, tNear);
+    t1 = min(t1, tFar);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
 // TriangleBvh::closestHit (or anyHit): the nearest hit with t in [0, tmax).
 MeshHit pcTrace(int mesh, vec3 o, vec3 d, float tmax, bool anyHit) {
   MeshHit best = MeshHit(tmax, 0.0, 0.0, -1, vec3(0.0));
@@ -1126,11 +1149,7 @@ MeshHit pcTrace(int mesh, vec3 o, vec3 d, float tmax, bool anyHit) {
   while (top > 0) {
     const uint node = stack[--top];
     const uint at = nodeBase + node * uint(CR_PC_NODE_WORDS);
-    const vec3 lo = (pcVec3(at) - o) * inv, hi = (pcVec3(at + 3u) - o) * inv;
-    const vec3 near = min(lo, hi), far = max(lo, hi);
-    const float t0 = max(max(near.x, near.y), max(near.z, 0.0));
-    const float t1 = min(min(far.x, far.y), min(far.z, best.t));
-    if (!(t0 <= t1)) continue;
+    if (!pcBoxReached(o, d, inv, pcVec3(at), pcVec3(at + 3u), best.t)) continue;
     const uint first = pcWords[at + 6u], count = pcWords[at + 7u];
     if (count == 0u) {
       if (top < 62) {

@@ -143,8 +143,8 @@ struct TexturedMeshFile {
 };
 
 /// Reads what writeTexturedMesh wrote: `v x y z`, `vt u v w`, `f a/t b/t c/t` (triangles, 1-based
-/// or negative indices). Every corner of a vertex must name the same texture position. Refuses,
-/// naming the file and line, anything else.
+/// or negative indices). Every corner of a vertex must name the same texture position; a vertex no
+/// triangle uses takes the vt of its own number. Refuses, naming the file and line, anything else.
 inline TexturedMeshFile readTexturedMesh(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorKind::FileNotFound, path, "no such file");
@@ -205,8 +205,11 @@ inline TexturedMeshFile readTexturedMesh(const std::filesystem::path& path) {
   if (file.mesh.triangles.empty()) throw Error(ErrorKind::FileFormat, path, "no triangles in the file");
   file.texture.resize(file.mesh.positions.size());
   for (std::size_t v = 0; v < vertexVt.size(); ++v) {
-    if (vertexVt[v] < 0) throw Error(ErrorKind::FileFormat, path, "vertex " + std::to_string(v + 1) + " is in no triangle");
-    file.texture[v] = vts[std::size_t(vertexVt[v])];
+    // A vertex no triangle uses (meshes have them) takes the vt of its own number, as written.
+    if (vertexVt[v] < 0 && v >= vts.size())
+      throw Error(ErrorKind::FileFormat, path,
+                  "vertex " + std::to_string(v + 1) + " is in no triangle and has no texture position of its number");
+    file.texture[v] = vts[vertexVt[v] >= 0 ? std::size_t(vertexVt[v]) : v];
   }
   file.mesh.sourcePolygons = file.mesh.triangles.size();
   return file;

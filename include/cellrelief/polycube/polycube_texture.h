@@ -86,10 +86,11 @@ class PolycubeTexture {
   PolycubeTexture(std::shared_ptr<const PolycubeSurface> surface, const SurfaceSignal& signal,
                   const TextureOptions& options = {});
 
-  /// T2 as written before (polycubeTexture.atlas(), e.g. read back from a PNG): S is the one
-  /// whose layout has the image's size. Throws InvalidInput when no S fits or the image is not
-  /// RGBA8.
-  static PolycubeTexture fromAtlas(std::shared_ptr<const PolycubeSurface> surface, Image<std::uint8_t> atlas);
+  /// T2 as written before (atlas(), e.g. read back from a PNG): S is `texels`, or with 0 the one
+  /// whose layout has the image's size. Throws InvalidInput when the image does not have that
+  /// layout's size or is not RGBA8.
+  static PolycubeTexture fromAtlas(std::shared_ptr<const PolycubeSurface> surface, Image<std::uint8_t> atlas,
+                                   int texels = 0);
 
   const PolycubeSurface& surface() const { return *mSurface; }
   std::shared_ptr<const PolycubeSurface> sharedSurface() const { return mSurface; }

@@ -22,13 +22,14 @@ inline PolycubeTexture::PolycubeTexture(std::shared_ptr<const PolycubeSurface> s
 }
 
 inline PolycubeTexture PolycubeTexture::fromAtlas(std::shared_ptr<const PolycubeSurface> surface,
-                                                  Image<std::uint8_t> atlas) {
+                                                  Image<std::uint8_t> atlas, int texels) {
   if (!surface) throw Error(ErrorKind::InvalidArgument, "polycube texture: no surface");
   if (atlas.isEmpty() || atlas.channels() != 4)
     throw Error(ErrorKind::InvalidInput, "polycube texture: T2 must be an RGBA image of 8 bits per channel");
   PolycubeTexture t;
   t.mSurface = std::move(surface);
   for (int s = 1; s <= 256; s *= 2) {
+    if (texels != 0 && s != texels) continue;
     TextureOptions options{s};
     options.maxAtlasSize = 1 << 30;
     if (t.layOut(options) == Vec2i(atlas.width(), atlas.height())) {
@@ -39,7 +40,8 @@ inline PolycubeTexture PolycubeTexture::fromAtlas(std::shared_ptr<const Polycube
   throw Error(ErrorKind::InvalidInput, "polycube texture: a " + std::to_string(atlas.width()) + " x " +
                                            std::to_string(atlas.height()) + " image is not T2 of this polycube (" +
                                            std::to_string(t.mSurface->lut().tileCount()) +
-                                           " squarelets) at any S from 1 to 256");
+                                           " squarelets) at " +
+                                           (texels != 0 ? "S = " + std::to_string(texels) : std::string("any S from 1 to 256")));
 }
 
 inline std::vector<PolycubeTexture::SquareletRef> PolycubeTexture::listSquarelets() const {

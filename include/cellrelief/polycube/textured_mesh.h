@@ -28,8 +28,8 @@ struct TexturedMesh {
   TextureUse use = TextureUse::Color;
   TextureFilter filter = TextureFilter::Trilinear;
 
-  /// Throws InvalidArgument unless the mesh is valid, has one texture position per vertex, each
-  /// finite and within P's reach of the polycube's surface, and T2 is given.
+  /// Throws InvalidInput for an invalid mesh (TriangleMesh::validate), InvalidArgument unless it
+  /// has triangles, T2 and one texture position per vertex within P's reach of the surface.
   void validate() const {
     mesh.validate();
     if (mesh.triangles.empty()) throw Error(ErrorKind::InvalidArgument, "textured mesh: no triangles");

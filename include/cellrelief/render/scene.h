@@ -44,7 +44,7 @@ struct Scene {
       box.extend(m->originWS + Vec3d(m->cellSizeWS * m->gridSize));
     }
     for (const auto& m : polycubeMeshes) {
-      const Aabbf b = m->mesh.bounds();
+      const Aabbf b = m->mesh.surfaceBounds();
       box.extend(Vec3d(b.min));
       box.extend(Vec3d(b.max));
     }

@@ -60,7 +60,7 @@ class PolycubeTracer {
                                                    mMesh->texture[t[2]] - mMesh->texture[t[0]]));
       mCubesPerWorld[i] = world > 0 ? std::sqrt(texture / world) : 0.0f;
     }
-    const Aabbf box = m.bounds();
+    const Aabbf box = m.surfaceBounds();
     mSurfaceOffset = constants::kMeshSurfaceOffset * glm::length(box.max - box.min);
   }
 

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -75,9 +76,13 @@ class CpuBackend final : public render::Backend {
     std::size_t bytes = 0;
     for (const auto& m : mScene.models) bytes += m->byteSize();
     for (const auto& t : mTracers) bytes += t->accelerationBytes();
-    for (const auto& t : mMeshTracers)
-      bytes += t->accelerationBytes() + t->mesh().t2->byteSize() +
-               t->mesh().t2->surface().lut().entries().size() * sizeof(polycube::LutEntry);
+    std::set<const polycube::PolycubeTexture*> textures;  // meshes may share one T2
+    for (const auto& t : mMeshTracers) {
+      bytes += t->accelerationBytes();
+      const polycube::PolycubeTexture& t2 = *t->mesh().t2;
+      if (textures.insert(&t2).second)
+        bytes += t2.byteSize() + t2.surface().lut().entries().size() * sizeof(polycube::LutEntry);
+    }
     return bytes;
   }
 

@@ -72,6 +72,12 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mContext->makeCurrent();
     releaseScene();
     gpu::checkLights(scene, "the OpenGL backend");
+    // Polycube meshes use storage binding 10; OpenGL 4.3 promises only 8 (llvmpipe and the GPU
+    // drivers have more).
+    if (!scene.polycubeMeshes.empty() && mStorageBindings <= 10)
+      throw Error(ErrorKind::Unsupported, "the OpenGL backend on " + mContext->renderer() + " has " +
+                                              std::to_string(mStorageBindings) +
+                                              " storage buffer bindings; polycube meshes need 11 (use vulkan or cpu)");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
@@ -174,6 +180,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &size);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &mStorageBindings);
     mLimits.maxTextureSize = size > 0 ? size : 2048;
     mLimits.maxArrayLayers = layers > 0 ? layers : 256;
     mLimits.maxStorageBytes = block > 0 ? std::size_t(block) : std::size_t(1) << 27;
@@ -417,6 +424,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   render::Scene mScene;
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
+  GLint mStorageBindings = 0;  ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
   GLuint mBuffers[5] = {0, 0, 0, 0, 0};   ///< models, cells, hash, pyramid, polycube meshes
   GLuint mTextures[5] = {0, 0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
