@@ -224,17 +224,17 @@ int runPolycube(const PolycubeCommandOptions& o) {
   std::printf("T2            %s, %d texels per squarelet, %u squarelets, %d x %d texels with %d mip levels (%.1f MB)\n",
               o.signal.c_str(), o.texels, domain.lut().tileCount(), t2->atlas().width(), t2->atlas().height(),
               t2->levelCount(), t2->byteSize() / 1e6);
-  const std::vector<Vec3d> lattice = polycube::latticePositions(mesh, frame);
-  const polycube::TextureUse use = o.signal == "normals" ? polycube::TextureUse::Normal : polycube::TextureUse::Color;
+  const polycube::TextureUse use =
+      signalKind == polycube::MeshSignalKind::Normal ? polycube::TextureUse::Normal : polycube::TextureUse::Color;
   const Image<std::uint8_t> picture = renderTextured(mesh, map.texture, t2, use);
   Image<std::uint8_t> coarsePicture;
-  TriangleMesh coarse;
   if (use == polycube::TextureUse::Normal) {
     // One map, several levels of detail: a decimation takes its texture positions from the
     // nearest points of the mesh and shows the full mesh's normals.
-    coarse = polycube::decimate(mesh, std::max<std::size_t>(200, mesh.positions.size() / 10));
+    const TriangleMesh coarse = polycube::decimate(mesh, std::max<std::size_t>(200, mesh.positions.size() / 10));
     const std::vector<Vec3d> coarseTexture = polycube::transferTexturePositions(
-        lattice, mesh.triangles, map.texture, polycube::latticePositions(coarse, frame), domain);
+        polycube::latticePositions(mesh, frame), mesh.triangles, map.texture,
+        polycube::latticePositions(coarse, frame), domain);
     coarsePicture = renderTextured(coarse, coarseTexture, t2, use);
     std::printf("level of detail %zu of %zu triangles, textured through the same map\n", coarse.triangleCount(),
                 mesh.triangleCount());

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <map>
 
 #include <cellrelief/backends/backend_table.h>
+#include <cellrelief/core/procedural.h>
 #include <cellrelief/cpu/cpu_backend.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/render/frame_comparison.h>
@@ -43,25 +43,6 @@ Vec3d signalAt(const Vec3d& p) {
 constexpr double kMaskBound = 1e-3, kDepthBound = 1e-2, kNormalBound = 0.05;
 constexpr double kMeanColourBound = 0.5, kP99ColourBound = 3;
 
-/// Splits every triangle into four, `levels` times (midpoints shared between neighbours).
-void subdivide(std::vector<Vec3d>& positions, std::vector<Vec3u>& triangles, int levels) {
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<unsigned, unsigned>, unsigned> midpoints;
-    const auto midpoint = [&](unsigned a, unsigned b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, added] = midpoints.try_emplace(key, unsigned(positions.size()));
-      if (added) positions.push_back(0.5 * (positions[a] + positions[b]));
-      return it->second;
-    };
-    std::vector<Vec3u> next;
-    for (const Vec3u& t : triangles) {
-      const unsigned ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
-      next.insert(next.end(), {Vec3u(t[0], ab, ca), Vec3u(ab, t[1], bc), Vec3u(ca, bc, t[2]), Vec3u(ab, bc, ca)});
-    }
-    triangles = std::move(next);
-  }
-}
-
 /// A 3 x 2 x 2 box of cubes, its surface subdivided and pushed halfway to an ellipsoid: world
 /// positions curve, texture positions stay exactly on the polycube's surface.
 std::shared_ptr<const polycube::TexturedMesh> roundedBox(int texels) {
@@ -70,19 +51,19 @@ std::shared_ptr<const polycube::TexturedMesh> roundedBox(int texels) {
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 3; ++x) cubes.push_back({x, y, z});
   auto surface = std::make_shared<const polycube::PolycubeSurface>(polycube::Polycube(cubes));
-  const TriangleMesh faces = surface->polycube().surfaceMesh();
-  std::vector<Vec3d> lattice(faces.positions.begin(), faces.positions.end());
-  std::vector<Vec3u> triangles = faces.triangles;
-  subdivide(lattice, triangles, 4);
+  // Midpoints of small integers, exact in float: the texture positions stay on the surface.
+  TriangleMesh faces = surface->polycube().surfaceMesh();
+  splitTrianglesInFour(faces, 4, [](const Vec3f& a, const Vec3f& b) { return 0.5f * (a + b); });
   auto out = std::make_shared<polycube::TexturedMesh>();
   const Vec3d centre(1.5, 1.0, 1.0);
-  for (const Vec3d& p : lattice) {
+  for (const Vec3f& corner : faces.positions) {
+    const Vec3d p(corner);
     const Vec3d d = p - centre;
     const Vec3d ellipsoid = glm::normalize(d / Vec3d(1.5, 1, 1)) * Vec3d(1.5, 1, 1) * 1.2;
     out->mesh.positions.push_back(Vec3f(0.5 * (d + ellipsoid)));
     out->texture.push_back(Vec3f(p));
   }
-  out->mesh.triangles = triangles;
+  out->mesh.triangles = faces.triangles;
   const polycube::SurfaceSignal signal = [](const Vec3d& p, const Vec3d&) { return Vec4f(Vec3f(signalAt(p)), 1.0f); };
   out->t2 = std::make_shared<const polycube::PolycubeTexture>(surface, signal, polycube::TextureOptions{texels});
   return out;

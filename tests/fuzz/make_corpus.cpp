@@ -181,15 +181,20 @@ void modelSeeds(const fs::path& root) {
   }
 }
 
-/// Cube files: a ring (genus 1) with a frame, and an L of cubes without one.
-void polycubeSeeds(const fs::path& root) {
-  const fs::path dir = root / "polycube";
-  fs::create_directories(dir);
+/// Eight cubes around an empty one: genus 1.
+polycube::Polycube ringOfCubes() {
   std::vector<Vec3i> ring;
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 3; ++x)
       if (x != 1 || y != 1) ring.push_back({x, y, 0});
-  polycube::writePolycube(polycube::Polycube(ring), {Vec3d(-0.5, 0.25, 1), 0.125}, dir / "ring.txt");
+  return polycube::Polycube(ring);
+}
+
+/// Cube files: a ring (genus 1) with a frame, and an L of cubes without one.
+void polycubeSeeds(const fs::path& root) {
+  const fs::path dir = root / "polycube";
+  fs::create_directories(dir);
+  polycube::writePolycube(ringOfCubes(), {Vec3d(-0.5, 0.25, 1), 0.125}, dir / "ring.txt");
   std::ofstream(dir / "l_shape.txt") << "# an L\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n";
 }
 
@@ -198,11 +203,7 @@ void polycubeSeeds(const fs::path& root) {
 void polycubeMapSeeds(const fs::path& root) {
   const fs::path dir = root / "polycube_map";
   fs::create_directories(dir);
-  std::vector<Vec3i> ring;
-  for (int y = 0; y < 3; ++y)
-    for (int x = 0; x < 3; ++x)
-      if (x != 1 || y != 1) ring.push_back({x, y, 0});
-  const TriangleMesh surface = polycube::Polycube(ring).surfaceMesh();
+  const TriangleMesh surface = ringOfCubes().surfaceMesh();
   const std::vector<Vec3d> texture(surface.positions.begin(), surface.positions.end());
   polycube::writeTexturedMesh(surface, texture, dir / "ring.obj");
   std::ofstream(dir / "negative.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0 0\nvt 1 0 0\nvt 0 1 0\nf -3/-3 -2/-2 -1/-1\n";

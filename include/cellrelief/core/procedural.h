@@ -17,6 +17,32 @@
 
 namespace cellrelief {
 
+/// Splits every triangle into four at its edges, `levels` times: `place(a, b)` gives the new vertex
+/// between positions a and b (shared by the two triangles of the edge). Corners keep their order.
+template <class Place>
+void splitTrianglesInFour(TriangleMesh& m, int levels, Place&& place) {
+  for (int s = 0; s < levels; ++s) {
+    std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
+    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      auto [it, inserted] = midpoints.try_emplace(key, std::uint32_t(m.positions.size()));
+      if (inserted) m.positions.push_back(place(m.positions[a], m.positions[b]));
+      return it->second;
+    };
+    std::vector<Vec3u> next;
+    next.reserve(m.triangles.size() * 4);
+    for (const Vec3u& t : m.triangles) {
+      const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]),
+                          ca = midpoint(t[2], t[0]);
+      next.push_back({t[0], ab, ca});
+      next.push_back({t[1], bc, ab});
+      next.push_back({t[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    m.triangles = std::move(next);
+  }
+}
+
 /// Geodesic sphere: an icosahedron whose faces are split in four `subdivisions` times and whose
 /// vertices are pushed onto the sphere; 20 * 4^s triangles, all nearly equilateral.
 inline TriangleMesh makeIcosphere(int subdivisions, float radius = 1.0f) {
@@ -32,26 +58,7 @@ inline TriangleMesh makeIcosphere(int subdivisions, float radius = 1.0f) {
                  {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
                  {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (Vec3f& p : m.positions) p = glm::normalize(p);
-  for (int s = 0; s < subdivisions; ++s) {
-    std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
-    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-      auto [it, inserted] = midpoints.try_emplace(key, std::uint32_t(m.positions.size()));
-      if (inserted) m.positions.push_back(glm::normalize(m.positions[a] + m.positions[b]));
-      return it->second;
-    };
-    std::vector<Vec3u> next;
-    next.reserve(m.triangles.size() * 4);
-    for (const Vec3u& t : m.triangles) {
-      const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]),
-                          ca = midpoint(t[2], t[0]);
-      next.push_back({t[0], ab, ca});
-      next.push_back({t[1], bc, ab});
-      next.push_back({t[2], ca, bc});
-      next.push_back({ab, bc, ca});
-    }
-    m.triangles = std::move(next);
-  }
+  splitTrianglesInFour(m, subdivisions, [](const Vec3f& a, const Vec3f& b) { return glm::normalize(a + b); });
   m.normals = m.positions;
   for (Vec3f& p : m.positions) p *= radius;
   m.sourcePolygons = m.triangles.size();
