@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file bvh.h
-/// A bounding volume hierarchy over triangles, for the CPU-side ray queries of conversion (is this
-/// projection segment blocked? where does this texel's projection line meet the surface?). Median
-/// split on the longest centroid axis, four triangles per leaf, triangles stored in leaf order as
-/// (v0, e1, e2) so a leaf reads contiguous memory. Verification uses Embree instead; this is the
+/// Bounding volume hierarchies: BoxBvh over boxes, and TriangleBvh on it for the CPU-side ray
+/// queries of conversion (is this projection segment blocked? where does this texel's projection
+/// line meet the surface?). Median split on the longest centroid axis, four primitives per leaf,
+/// triangles stored in leaf order as (v0, e1, e2) so a leaf reads contiguous memory. Verification uses Embree instead; this is the
 /// library's own, dependency-free structure.
 #pragma once
 
@@ -84,32 +84,153 @@ T pointTriangleDistance2(const Vec3<T>& p, const Vec3<T>& a, const Vec3<T>& b, c
   return glm::dot(d, d);
 }
 
+/// A bounding volume hierarchy over boxes: median split on the longest centroid axis, a few
+/// primitives per leaf, nodes in depth-first order. It knows only boxes and ids; the structures
+/// built on it (triangles below, geometry-texture charts in trace/) keep their primitives in its
+/// leaf order so a leaf reads contiguous memory.
+template <Real T>
+class BoxBvh {
+ public:
+  static constexpr int kLeafSize = 4;
+
+  /// The tree as a GPU backend uploads it: nodes in depth-first order (an inner node's left
+  /// child follows it, `first` is its right child; a leaf's `first` and `count` index
+  /// primitiveIds()), and the primitive ids in leaf order.
+  struct Node {
+    Aabb<T> box;
+    std::uint32_t first = 0;  // leaf: first primitive; inner: index of the right child
+    std::uint32_t count = 0;  // leaf: number of primitives; inner: 0 (left child follows)
+  };
+
+  BoxBvh() = default;
+  explicit BoxBvh(std::span<const Aabb<T>> boxes) {
+    const std::size_t n = boxes.size();
+    if (n >= (1u << 31)) throw Error(ErrorKind::ResourceLimit, "too many primitives for the BVH");
+    mIds.resize(n);
+    std::iota(mIds.begin(), mIds.end(), 0u);
+    std::vector<Vec3<T>> centroids(n);
+    for (std::size_t i = 0; i < n; ++i) centroids[i] = boxes[i].center();
+    mNodes.reserve(n > 0 ? 2 * (n / kLeafSize + 1) : 1);
+    if (n > 0) build(0, std::uint32_t(n), centroids, boxes);
+  }
+
+  std::size_t primitiveCount() const { return mIds.size(); }
+  std::size_t nodeCount() const { return mNodes.size(); }
+  std::span<const Node> nodes() const { return mNodes; }
+  std::span<const std::uint32_t> primitiveIds() const { return mIds; }
+
+  /// Visits, as visit(i, tmax), the leaf slots i (index into primitiveIds()) whose boxes the ray
+  /// reaches before `tmax`; the visitor may lower tmax (a nearer hit prunes the rest) and returns
+  /// true to stop.
+  template <class Visit>
+  void traverse(const Ray<T>& ray, T& tmax, Visit&& visit) const {
+    if (mNodes.empty()) return;
+    std::uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = mNodes[stack[--top]];
+      Ray<T> clipped = ray;
+      clipped.tmax = tmax;
+      if (!intersect(clipped, node.box).hit) continue;
+      if (node.count > 0) {
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+          if (visit(i, tmax)) return;
+        continue;
+      }
+      const std::uint32_t left = std::uint32_t(&node - mNodes.data()) + 1;
+      stack[top++] = node.first;
+      stack[top++] = left;
+    }
+  }
+
+  /// Visits leaf slots in order of increasing box distance to p, as visit(i, best2) with best2
+  /// the squared distance the visitor has found so far (it may lower it); subtrees farther than
+  /// best2 are skipped.
+  template <class Visit>
+  void nearest(const Vec3<T>& p, T& best2, Visit&& visit) const {
+    if (mNodes.empty()) return;
+    std::pair<T, std::uint32_t> stack[64];
+    int top = 0;
+    stack[top++] = {boxDistance2(mNodes[0].box, p), 0};
+    while (top > 0) {
+      const auto [d2, index] = stack[--top];
+      if (d2 > best2) continue;
+      const Node& node = mNodes[index];
+      if (node.count > 0) {
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) visit(i, best2);
+        continue;
+      }
+      const std::uint32_t left = index + 1, right = node.first;
+      const T dl = boxDistance2(mNodes[left].box, p), dr = boxDistance2(mNodes[right].box, p);
+      // Push the farther child first so the nearer one is visited next.
+      if (dl < dr) {
+        if (dr <= best2) stack[top++] = {dr, right};
+        if (dl <= best2) stack[top++] = {dl, left};
+      } else {
+        if (dl <= best2) stack[top++] = {dl, left};
+        if (dr <= best2) stack[top++] = {dr, right};
+      }
+    }
+  }
+
+ private:
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<Vec3<T>>& centroids,
+                      std::span<const Aabb<T>> boxes) {
+    const std::uint32_t index = std::uint32_t(mNodes.size());
+    mNodes.emplace_back();
+    Aabb<T> box, centroidBox;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      box.extend(boxes[mIds[i]]);
+      centroidBox.extend(centroids[mIds[i]]);
+    }
+    mNodes[index].box = box;
+    const Vec3<T> extent = centroidBox.extent();
+    if (end - begin <= kLeafSize || std::max({extent.x, extent.y, extent.z}) <= T(0)) {
+      mNodes[index].first = begin;
+      mNodes[index].count = end - begin;
+      return index;
+    }
+    const int axis = maxDimension(extent);
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(mIds.begin() + begin, mIds.begin() + mid, mIds.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       return centroids[a][axis] < centroids[b][axis];
+                     });
+    build(begin, mid, centroids, boxes);
+    const std::uint32_t right = build(mid, end, centroids, boxes);
+    mNodes[index].first = right;
+    mNodes[index].count = 0;
+    return index;
+  }
+
+  static T boxDistance2(const Aabb<T>& box, const Vec3<T>& p) {
+    const Vec3<T> d = glm::max(glm::max(box.min - p, p - box.max), Vec3<T>(0));
+    return glm::dot(d, d);
+  }
+
+  std::vector<Node> mNodes;
+  std::vector<std::uint32_t> mIds;
+};
+
+/// Triangles on a BoxBvh, stored in its leaf order as (v0, e1, e2).
 template <Real T>
 class TriangleBvh {
  public:
-  static constexpr int kLeafSize = 4;
+  using Node = typename BoxBvh<T>::Node;
 
   TriangleBvh() = default;
   TriangleBvh(std::span<const Vec3<T>> positions, std::span<const Vec3u> triangles) {
     const std::size_t n = triangles.size();
     if (n >= (1u << 31)) throw Error(ErrorKind::ResourceLimit, "too many triangles for the BVH");
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    std::vector<Vec3<T>> centroids(n);
     std::vector<Aabb<T>> boxes(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3u& t = triangles[i];
-      boxes[i].extend(positions[t[0]]);
-      boxes[i].extend(positions[t[1]]);
-      boxes[i].extend(positions[t[2]]);
-      centroids[i] = boxes[i].center();
-    }
-    mNodes.reserve(n > 0 ? 2 * (n / kLeafSize + 1) : 1);
-    if (n > 0) build(order, 0, std::uint32_t(n), centroids, boxes);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) boxes[i].extend(positions[triangles[i][k]]);
+    mTree = BoxBvh<T>(boxes);
+    const auto order = mTree.primitiveIds();
     mV0.resize(n);
     mE1.resize(n);
     mE2.resize(n);
-    mIds = order;
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3u& t = triangles[order[i]];
       mV0[i] = positions[t[0]];
@@ -118,25 +239,21 @@ class TriangleBvh {
     }
   }
 
-  std::size_t triangleCount() const { return mIds.size(); }
-  std::size_t nodeCount() const { return mNodes.size(); }
+  std::size_t triangleCount() const { return mTree.primitiveCount(); }
+  std::size_t nodeCount() const { return mTree.nodeCount(); }
 
-  /// The tree as a GPU backend uploads it: nodes in depth-first order (an inner node's left
-  /// child follows it, `first` is its right child; a leaf's `first` and `count` index
-  /// primitiveIds()), and the triangle ids in leaf order.
-  struct Node {
-    Aabb<T> box;
-    std::uint32_t first = 0;  // leaf: first primitive; inner: index of the right child
-    std::uint32_t count = 0;  // leaf: number of primitives; inner: 0 (left child follows)
-  };
-  std::span<const Node> nodes() const { return mNodes; }
-  std::span<const std::uint32_t> primitiveIds() const { return mIds; }
+  /// The tree as a GPU backend uploads it (see BoxBvh::nodes), the triangle ids in leaf order.
+  std::span<const Node> nodes() const { return mTree.nodes(); }
+  std::span<const std::uint32_t> primitiveIds() const { return mTree.primitiveIds(); }
 
   /// True when the ray meets a triangle other than `skip` with t in [tmin, tmax).
   bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
     bool found = false;
-    traverse(ray, [&](std::uint32_t i, Hit<T>& hit) {
-      if (mIds[i] == skip) return false;
+    Hit<T> hit;
+    hit.t = ray.tmax;
+    T tmax = ray.tmax;
+    mTree.traverse(ray, tmax, [&](std::uint32_t i, T&) {
+      if (mTree.primitiveIds()[i] == skip) return false;
       if (intersectPrim(ray, i, hit)) found = true;
       return found;
     });
@@ -149,35 +266,13 @@ class TriangleBvh {
                                            T maxDistance = std::numeric_limits<T>::infinity()) const {
     T best = maxDistance == std::numeric_limits<T>::infinity() ? maxDistance : maxDistance * maxDistance;
     std::uint32_t bestId = kInvalidId;
-    if (mNodes.empty()) return {best, bestId};
-    std::pair<T, std::uint32_t> stack[64];
-    int top = 0;
-    stack[top++] = {boxDistance2(mNodes[0].box, p), 0};
-    while (top > 0) {
-      const auto [d2, index] = stack[--top];
-      if (d2 > best) continue;
-      const Node& node = mNodes[index];
-      if (node.count > 0) {
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-          const T t2 = pointTriangleDistance2(p, mV0[i], mV0[i] + mE1[i], mV0[i] + mE2[i]);
-          if (t2 < best) {
-            best = t2;
-            bestId = mIds[i];
-          }
-        }
-        continue;
+    mTree.nearest(p, best, [&](std::uint32_t i, T& best2) {
+      const T t2 = pointTriangleDistance2(p, mV0[i], mV0[i] + mE1[i], mV0[i] + mE2[i]);
+      if (t2 < best2) {
+        best2 = t2;
+        bestId = mTree.primitiveIds()[i];
       }
-      const std::uint32_t left = index + 1, right = node.first;
-      const T dl = boxDistance2(mNodes[left].box, p), dr = boxDistance2(mNodes[right].box, p);
-      // Push the farther child first so the nearer one is visited next.
-      if (dl < dr) {
-        if (dr <= best) stack[top++] = {dr, right};
-        if (dl <= best) stack[top++] = {dl, left};
-      } else {
-        if (dl <= best) stack[top++] = {dl, left};
-        if (dr <= best) stack[top++] = {dr, right};
-      }
-    }
+    });
     return {best, bestId};
   }
 
@@ -186,87 +281,26 @@ class TriangleBvh {
   Hit<T> closestHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
     Hit<T> best;
     best.t = ray.tmax;
-    traverse(ray, [&](std::uint32_t i, Hit<T>& hit) {
-      if (mIds[i] != skip) intersectPrim(ray, i, hit);
+    T tmax = ray.tmax;
+    mTree.traverse(ray, tmax, [&](std::uint32_t i, T& limit) {
+      if (mTree.primitiveIds()[i] != skip && intersectPrim(ray, i, best)) limit = best.t;
       return false;
-    }, &best);
+    });
     if (!best.valid()) best.t = std::numeric_limits<T>::infinity();
     return best;
   }
 
  private:
-
-  std::uint32_t build(std::vector<std::uint32_t>& order, std::uint32_t begin, std::uint32_t end,
-                      const std::vector<Vec3<T>>& centroids, const std::vector<Aabb<T>>& boxes) {
-    const std::uint32_t index = std::uint32_t(mNodes.size());
-    mNodes.emplace_back();
-    Aabb<T> box, centroidBox;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      box.extend(boxes[order[i]]);
-      centroidBox.extend(centroids[order[i]]);
-    }
-    mNodes[index].box = box;
-    const Vec3<T> extent = centroidBox.extent();
-    if (end - begin <= kLeafSize || std::max({extent.x, extent.y, extent.z}) <= T(0)) {
-      mNodes[index].first = begin;
-      mNodes[index].count = end - begin;
-      return index;
-    }
-    const int axis = maxDimension(extent);
-    const std::uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       return centroids[a][axis] < centroids[b][axis];
-                     });
-    build(order, begin, mid, centroids, boxes);
-    const std::uint32_t right = build(order, mid, end, centroids, boxes);
-    mNodes[index].first = right;
-    mNodes[index].count = 0;
-    return index;
-  }
-
   bool intersectPrim(const Ray<T>& ray, std::uint32_t i, Hit<T>& hit) const {
-    const std::uint32_t id = mIds[i];
+    const std::uint32_t id = mTree.primitiveIds()[i];
     const T before = hit.t;
     intersectTriangle(ray.origin, ray.direction, ray.tmin, mV0[i], mV0[i] + mE1[i],
                       mV0[i] + mE2[i], id, 0u, hit);
     return hit.t < before;
   }
 
-  /// Visits leaf primitives whose boxes the ray reaches before `hit.t`; `visit` returns true to stop.
-  template <class Visit>
-  void traverse(const Ray<T>& ray, Visit&& visit, Hit<T>* external = nullptr) const {
-    if (mNodes.empty()) return;
-    Hit<T> local;
-    local.t = ray.tmax;
-    Hit<T>& hit = external ? *external : local;
-    std::uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = mNodes[stack[--top]];
-      Ray<T> clipped = ray;
-      clipped.tmax = hit.t;
-      if (!intersect(clipped, node.box).hit) continue;
-      if (node.count > 0) {
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
-          if (visit(i, hit)) return;
-        continue;
-      }
-      const std::uint32_t left = std::uint32_t(&node - mNodes.data()) + 1;
-      stack[top++] = node.first;
-      stack[top++] = left;
-    }
-  }
-
-  static T boxDistance2(const Aabb<T>& box, const Vec3<T>& p) {
-    const Vec3<T> d = glm::max(glm::max(box.min - p, p - box.max), Vec3<T>(0));
-    return glm::dot(d, d);
-  }
-
-  std::vector<Node> mNodes;
+  BoxBvh<T> mTree;
   std::vector<Vec3<T>> mV0, mE1, mE2;
-  std::vector<std::uint32_t> mIds;
 };
 
 /// A mesh in double precision with its BVH, built once and queried many times: projection

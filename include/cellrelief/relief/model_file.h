@@ -23,8 +23,7 @@
 #include <vector>
 
 #include "cellrelief/core/error.h"
-#include "cellrelief/io/atomic_file.h"
-#include "cellrelief/io/detail/crc32.h"
+#include "cellrelief/io/checksummed_file.h"
 #include "cellrelief/relief/relief_model.h"
 
 namespace cellrelief::relief {
@@ -34,7 +33,6 @@ inline constexpr char kReliefMagic[8] = {'C', 'E', 'L', 'L', 'R', 'E', 'L', 'F'}
 inline constexpr std::uint32_t kReliefFileVersion = 2;
 
 namespace detail {
-using io::detail::crc32;
 /// The fixed header, 112 bytes.
 struct ReliefHeader {
   char magic[8];
@@ -97,41 +95,17 @@ inline void writeRelief(const ReliefModel& model, const std::filesystem::path& p
   h.normalBytes = normals.size();
   h.colorBytes = colors.size();
 
-  io::AtomicFile file(path);
-  {
-    std::ofstream out(file.temporaryPath(), std::ios::binary);
-    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot create the file");
-    std::uint32_t crc = 0;
-    auto put = [&](const char* data, std::size_t size) {
-      out.write(data, std::streamsize(size));
-      crc = detail::crc32(data, size, crc);
-    };
-    put(reinterpret_cast<const char*>(&h), sizeof h);
-    for (const auto& section : {cells, distances, normals, colors}) put(section.data(), section.size());
-    out.write(reinterpret_cast<const char*>(&crc), sizeof crc);
-    out.flush();
-    if (!out) throw Error(ErrorKind::FileWrite, path, "write failed (disk full?)");
-  }
-  file.commit();
+  io::ChecksummedWriter out(path);
+  out.put(&h, sizeof h);
+  for (const auto& section : {cells, distances, normals, colors}) out.put(section.data(), section.size());
+  out.commit();
 }
 
 /// Reads a model; throws Error (FileNotFound, FileFormat) naming the file and the problem.
 inline ReliefModel readRelief(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(ErrorKind::FileNotFound, path, "no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorKind::FileNotFound, path, "cannot open for reading");
-  const std::uint64_t size = std::filesystem::file_size(path);
-  auto fail = [&](const std::string& problem) -> void { throw Error(ErrorKind::FileFormat, path, problem); };
-  detail::ReliefHeader h{};
-  if (size < 12) fail("too short to be a cellrelief model (" + std::to_string(size) + " bytes)");
-  in.read(reinterpret_cast<char*>(&h), std::streamsize(std::min<std::uint64_t>(size, sizeof h)));
-  if (std::memcmp(h.magic, kReliefMagic, 8) != 0) fail("not a cellrelief model (wrong magic bytes)");
-  if (h.version != kReliefFileVersion)
-    fail("file format version " + std::to_string(h.version) + ", this build reads version " +
-         std::to_string(kReliefFileVersion));
-  if (size < sizeof h + 4) fail("truncated: the header is incomplete");
-  if (h.headerBytes != sizeof h) fail("corrupted header (header size " + std::to_string(h.headerBytes) + ")");
+  io::ChecksummedReader in(path, "a cellrelief model");
+  auto fail = [&](const std::string& problem) { in.fail(problem); };
+  const auto h = in.readHeader<detail::ReliefHeader>(kReliefMagic, kReliefFileVersion);
   const std::uint64_t T = std::uint64_t(h.texels);
   const std::uint64_t layers = h.layerCount;
   const bool sane = h.gridSize >= 1 && h.gridSize <= 1024 && h.texels >= 2 && h.texels <= 1025 &&
@@ -147,11 +121,7 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
       h.distanceBytes != samples * DistanceCodec{.bits = h.distanceBits}.bytesPerCode() ||
       h.normalBytes != samples * normalBytesPerSample || h.colorBytes != samples * (h.colorFormat ? 4 : 0))
     fail("corrupted header (section sizes disagree with the counts)");
-  const std::uint64_t expected =
-      sizeof h + h.cellBytes + h.distanceBytes + h.normalBytes + h.colorBytes + 4;
-  if (size < expected)
-    fail("truncated: " + std::to_string(size) + " bytes, the header describes " + std::to_string(expected));
-  if (size > expected) fail("corrupted: " + std::to_string(size - expected) + " unexpected trailing bytes");
+  in.expectSize(sizeof h + h.cellBytes + h.distanceBytes + h.normalBytes + h.colorBytes + 4);
 
   ReliefModel m;
   m.gridSize = h.gridSize;
@@ -161,36 +131,27 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   m.colorFormat = ColorFormat(h.colorFormat);
   m.originWS = Vec3d(h.originWS[0], h.originWS[1], h.originWS[2]);
   m.cellSizeWS = h.cellSizeWS;
-  std::uint32_t crc = detail::crc32(&h, sizeof h);
-  auto readInto = [&](char* data, std::uint64_t bytes) {
-    in.read(data, std::streamsize(bytes));
-    if (!in) fail("truncated while reading");
-    crc = detail::crc32(data, bytes, crc);
-  };
   m.cells.resize(h.cellCount);
-  readInto(reinterpret_cast<char*>(m.cells.data()), h.cellBytes);
+  in.read(reinterpret_cast<char*>(m.cells.data()), h.cellBytes);
   const int L = int(layers);
   if (layers > 0) {
     m.visitDistances([&](auto& maps) {
       maps = std::decay_t<decltype(maps)>(h.texels, h.texels, L, 1);
-      readInto(reinterpret_cast<char*>(maps.levelData(0).data()), h.distanceBytes);
+      in.read(reinterpret_cast<char*>(maps.levelData(0).data()), h.distanceBytes);
     });
     if (m.normalFormat == NormalFormat::Octahedral16) {
       m.normals16 = ImageArray<std::uint16_t>(h.texels, h.texels, L, 2);
-      readInto(reinterpret_cast<char*>(m.normals16.levelData(0).data()), h.normalBytes);
+      in.read(reinterpret_cast<char*>(m.normals16.levelData(0).data()), h.normalBytes);
     } else if (m.normalFormat == NormalFormat::Rgba8) {
       m.normals8 = ImageArray<std::uint8_t>(h.texels, h.texels, L, 4);
-      readInto(reinterpret_cast<char*>(m.normals8.levelData(0).data()), h.normalBytes);
+      in.read(reinterpret_cast<char*>(m.normals8.levelData(0).data()), h.normalBytes);
     }
     if (m.colorFormat == ColorFormat::Rgba8) {
       m.colors = ImageArray<std::uint8_t>(h.texels, h.texels, L, 4);
-      readInto(reinterpret_cast<char*>(m.colors.levelData(0).data()), h.colorBytes);
+      in.read(reinterpret_cast<char*>(m.colors.levelData(0).data()), h.colorBytes);
     }
   }
-  std::uint32_t stored = 0;
-  in.read(reinterpret_cast<char*>(&stored), 4);
-  if (!in) fail("truncated: the checksum is missing");
-  if (stored != crc) fail("checksum mismatch: the file is corrupted");
+  in.finish();
   // The look-up table must describe the maps it comes with.
   std::uint64_t nextLayer = 0;
   for (std::size_t i = 0; i < m.cells.size(); ++i) {
