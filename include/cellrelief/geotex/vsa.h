@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: MIT
+/// @file vsa.h
+/// Variational Shape Approximation (Cohen-Steiner, Alliez, Desbrun, SIGGRAPH 2004): the faces of a
+/// mesh partitioned into K connected regions, each approximated by a plane proxy, by Lloyd
+/// iterations of (1) geometry partitioning: flooding from one seed face per proxy through a
+/// priority queue ordered by the face's error against the proxy, and (2) proxy fitting. The error
+/// is L2,1 (area times squared normal deviation: charts that a height map along the proxy normal
+/// represents well) or L2 (squared distance to the plane, integrated over the face).
+///
+/// Seeding is farthest-point (geodesic over the face graph: even coverage) or hierarchical
+/// (proxies added where the error is largest, a few relaxations after each round: fewer
+/// iterations to a low error). Every connected component gets at least one proxy, so a mesh of
+/// more components than requested proxies gets one per component (reported in the result).
+/// Faces are joined across edges whose end points coincide in position, so a triangle soup (an
+/// STL file) partitions like the welded mesh. The flooding is sequential (a priority queue);
+/// proxy fitting and error evaluation run in parallel over faces.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/core/hit.h"
+#include "cellrelief/core/math.h"
+#include "cellrelief/core/parallel.h"
+#include "cellrelief/core/symmetric_eigen.h"
+#include "cellrelief/core/triangle_mesh.h"
+#include "cellrelief/core/union_find.h"
+
+namespace cellrelief::geotex {
+
+enum class VsaMetric { L21, L2 };
+enum class VsaSeeding { FarthestPoint, Hierarchical };
+
+struct VsaOptions {
+  int proxies = 64;
+  VsaMetric metric = VsaMetric::L21;
+  VsaSeeding seeding = VsaSeeding::Hierarchical;
+  int maxIterations = 50;   ///< Lloyd iterations after seeding
+  double tolerance = 1e-4;  ///< stop when an iteration lowers the error by less than this fraction
+  /// Called with the fraction done (seeding counts as the first half).
+  std::function<void(double)> progress;
+};
+
+/// A plane proxy: a point on it and its unit normal.
+struct Proxy {
+  Vec3d point{0};
+  Vec3d normal{0, 0, 1};
+};
+
+struct VsaPartition {
+  std::vector<std::uint32_t> regionOfFace;  ///< one region (proxy) index per triangle
+  std::vector<Proxy> proxies;
+  std::vector<double> regionError;          ///< the metric's error per region
+  double error = 0;                         ///< total, the sum of regionError
+  std::vector<double> errorPerIteration;    ///< after each Lloyd iteration (non-increasing)
+  int requestedProxies = 0;
+  int components = 0;                       ///< connected components of the face graph
+};
+
+/// The face graph, with geometry per face, in the form every VSA step reads.
+struct FaceGraph {
+  std::vector<double> area;
+  std::vector<Vec3d> normal;    ///< unit; zero for a degenerate face
+  std::vector<Vec3d> centroid;
+  std::vector<std::uint32_t> neighbourStart;  ///< CSR: neighbours of f in [start[f], start[f+1])
+  std::vector<std::uint32_t> neighbours;
+  std::vector<std::uint32_t> componentOfFace;
+  int components = 0;
+
+  std::size_t faceCount() const { return area.size(); }
+};
+
+/// Builds the face graph: faces are neighbours when they share an edge, with vertices identified
+/// by position (a soup joins like its welded mesh); a non-manifold edge joins all its faces.
+inline FaceGraph buildFaceGraph(const TriangleMesh& mesh) {
+  FaceGraph g;
+  const std::size_t nf = mesh.triangles.size();
+  g.area.resize(nf);
+  g.normal.resize(nf);
+  g.centroid.resize(nf);
+  parallelFor(0, nf, [&](std::size_t f) {
+    const Vec3u& t = mesh.triangles[f];
+    const Vec3d a(mesh.positions[t[0]]), b(mesh.positions[t[1]]), c(mesh.positions[t[2]]);
+    const Vec3d n = glm::cross(b - a, c - a);
+    const double len = glm::length(n);
+    g.area[f] = 0.5 * len;
+    g.normal[f] = len > 0 ? n / len : Vec3d(0);
+    g.centroid[f] = (a + b + c) / 3.0;
+  });
+  // Weld by position so that edges of a soup are found.
+  std::vector<std::uint32_t> weld(mesh.positions.size());
+  {
+    struct PositionHash {
+      std::size_t operator()(const Vec3f& p) const {
+        const auto bits = [](float x) { return std::hash<float>{}(x == 0.0f ? 0.0f : x); };
+        return bits(p.x) * 73856093u ^ bits(p.y) * 19349663u ^ bits(p.z) * 83492791u;
+      }
+    };
+    std::unordered_map<Vec3f, std::uint32_t, PositionHash> first;
+    first.reserve(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+      weld[v] = first.try_emplace(mesh.positions[v], std::uint32_t(v)).first->second;
+  }
+  struct EdgeUse {
+    std::uint64_t key;
+    std::uint32_t face;
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a = weld[mesh.triangles[f][k]], b = weld[mesh.triangles[f][(k + 1) % 3]];
+      if (a == b) continue;
+      if (a > b) std::swap(a, b);
+      uses.push_back({(std::uint64_t(a) << 32) | b, std::uint32_t(f)});
+    }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.key != y.key ? x.key < y.key : x.face < y.face;
+  });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    for (std::size_t p = i; p < j; ++p)
+      for (std::size_t q = p + 1; q < j; ++q)
+        if (uses[p].face != uses[q].face) {
+          pairs.emplace_back(uses[p].face, uses[q].face);
+          pairs.emplace_back(uses[q].face, uses[p].face);
+        }
+    i = j;
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  g.neighbourStart.assign(nf + 1, 0);
+  for (const auto& [f, n] : pairs) ++g.neighbourStart[f + 1];
+  for (std::size_t f = 0; f < nf; ++f) g.neighbourStart[f + 1] += g.neighbourStart[f];
+  g.neighbours.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) g.neighbours[i] = pairs[i].second;  // sorted by f
+  UnionFind sets(nf);
+  for (const auto& [f, n] : pairs) sets.unite(f, n);
+  g.componentOfFace.resize(nf);
+  std::unordered_map<std::size_t, std::uint32_t> componentOfRoot;
+  for (std::size_t f = 0; f < nf; ++f)
+    g.componentOfFace[f] =
+        componentOfRoot.try_emplace(sets.find(f), std::uint32_t(componentOfRoot.size())).first->second;
+  g.components = int(componentOfRoot.size());
+  return g;
+}
+
+namespace detail {
+
+/// The metric's error of face f against a proxy.
+inline double faceError(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
+                        std::size_t f, const Proxy& proxy) {
+  if (metric == VsaMetric::L21) {
+    const Vec3d d = g.normal[f] - proxy.normal;
+    return g.area[f] * glm::dot(d, d);
+  }
+  // L2: the integral over the triangle of the squared distance to the plane, exact for the
+  // linear distance function: A/6 (d1^2 + d2^2 + d3^2 + d1 d2 + d2 d3 + d3 d1).
+  const Vec3u& t = mesh.triangles[f];
+  double d[3];
+  for (int k = 0; k < 3; ++k) d[k] = glm::dot(Vec3d(mesh.positions[t[k]]) - proxy.point, proxy.normal);
+  return g.area[f] / 6.0 *
+         (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+/// Fits each region's proxy: L2,1 takes the area-weighted mean normal; L2 the least-squares plane
+/// of the region's triangles (their exact second moments). A region whose normals cancel (a
+/// closed surface in one region) keeps its previous normal.
+inline void fitProxies(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
+                       const std::vector<std::uint32_t>& regionOfFace, std::vector<Proxy>& proxies) {
+  const std::size_t k = proxies.size();
+  std::vector<double> area(k, 0);
+  std::vector<Vec3d> weightedNormal(k, Vec3d(0)), weightedCentroid(k, Vec3d(0));
+  std::vector<glm::dmat3> moment(metric == VsaMetric::L2 ? k : 0, glm::dmat3(0));
+  for (std::size_t f = 0; f < g.faceCount(); ++f) {
+    const std::uint32_t r = regionOfFace[f];
+    area[r] += g.area[f];
+    weightedNormal[r] += g.area[f] * g.normal[f];
+    weightedCentroid[r] += g.area[f] * g.centroid[f];
+    if (metric == VsaMetric::L2) {
+      // The integral of x x^T over a triangle: A/12 (sum v v^T + 9 c c^T), c the centroid.
+      const Vec3u& t = mesh.triangles[f];
+      glm::dmat3 m = 9.0 * glm::outerProduct(g.centroid[f], g.centroid[f]);
+      for (int c = 0; c < 3; ++c) {
+        const Vec3d v(mesh.positions[t[c]]);
+        m += glm::outerProduct(v, v);
+      }
+      moment[r] += (g.area[f] / 12.0) * m;
+    }
+  }
+  for (std::size_t r = 0; r < k; ++r) {
+    if (area[r] <= 0) continue;  // a region of degenerate faces keeps its proxy
+    proxies[r].point = weightedCentroid[r] / area[r];
+    Vec3d normal = proxies[r].normal;
+    if (metric == VsaMetric::L21) {
+      const double len = glm::length(weightedNormal[r]);
+      if (len > 1e-12 * area[r]) normal = weightedNormal[r] / len;
+    } else {
+      const glm::dmat3 covariance =
+          moment[r] - area[r] * glm::outerProduct(proxies[r].point, proxies[r].point);
+      normal = symmetricEigen3(covariance).vectors[0];
+      if (glm::dot(normal, weightedNormal[r]) < 0) normal = -normal;
+    }
+    proxies[r].normal = normal;
+  }
+}
+
+/// The face of each region with the lowest error against its proxy: the flooding's seeds.
+inline std::vector<std::uint32_t> regionSeeds(const std::vector<double>& errorOfFace,
+                                              const std::vector<std::uint32_t>& regionOfFace,
+                                              std::size_t regions) {
+  std::vector<std::uint32_t> seed(regions, kInvalidId);
+  std::vector<double> best(regions, std::numeric_limits<double>::infinity());
+  for (std::size_t f = 0; f < regionOfFace.size(); ++f) {
+    const std::uint32_t r = regionOfFace[f];
+    if (errorOfFace[f] < best[r] || seed[r] == kInvalidId) {
+      best[r] = errorOfFace[f];
+      seed[r] = std::uint32_t(f);
+    }
+  }
+  return seed;
+}
+
+/// Geometry partitioning: grows every region from its seed through a priority queue of (error,
+/// face, region), a face going to the first region that pops it. Regions stay connected.
+inline std::vector<std::uint32_t> flood(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
+                                        const std::vector<std::uint32_t>& seeds,
+                                        const std::vector<Proxy>& proxies) {
+  struct Candidate {
+    double error;
+    std::uint32_t face, region;
+    bool operator>(const Candidate& o) const {
+      return error != o.error ? error > o.error : (face != o.face ? face > o.face : region > o.region);
+    }
+  };
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+  std::vector<std::uint32_t> region(g.faceCount(), kInvalidId);
+  auto pushNeighbours = [&](std::uint32_t f, std::uint32_t r) {
+    for (std::uint32_t i = g.neighbourStart[f]; i < g.neighbourStart[f + 1]; ++i) {
+      const std::uint32_t n = g.neighbours[i];
+      if (region[n] == kInvalidId) queue.push({faceError(mesh, g, metric, n, proxies[r]), n, r});
+    }
+  };
+  for (std::uint32_t r = 0; r < seeds.size(); ++r) region[seeds[r]] = r;
+  for (std::uint32_t r = 0; r < seeds.size(); ++r) pushNeighbours(seeds[r], r);
+  while (!queue.empty()) {
+    const Candidate c = queue.top();
+    queue.pop();
+    if (region[c.face] != kInvalidId) continue;
+    region[c.face] = c.region;
+    pushNeighbours(c.face, c.region);
+  }
+  return region;
+}
+
+/// Multi-source geodesic distance (Dijkstra over face centroids) from the given faces, lowered in
+/// place: adding a seed relaxes only the faces it comes closer to.
+inline void lowerDistances(const FaceGraph& g, std::uint32_t source, std::vector<double>& distance) {
+  using Entry = std::pair<double, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  distance[source] = 0;
+  queue.push({0.0, source});
+  while (!queue.empty()) {
+    const auto [d, f] = queue.top();
+    queue.pop();
+    if (d > distance[f]) continue;
+    for (std::uint32_t i = g.neighbourStart[f]; i < g.neighbourStart[f + 1]; ++i) {
+      const std::uint32_t n = g.neighbours[i];
+      const double nd = d + glm::length(g.centroid[n] - g.centroid[f]);
+      if (nd < distance[n]) {
+        distance[n] = nd;
+        queue.push({nd, n});
+      }
+    }
+  }
+}
+
+/// The index of the largest value, the first on ties (infinity counts: an unseeded component).
+inline std::uint32_t argMax(const std::vector<double>& values) {
+  return std::uint32_t(std::max_element(values.begin(), values.end()) - values.begin());
+}
+
+/// The partition as the Lloyd iterations carry it from step to step.
+struct LloydState {
+  std::vector<std::uint32_t> regionOfFace;
+  std::vector<Proxy> proxies;
+  std::vector<double> errorOfFace;  ///< against the face's own region's proxy
+  double error = 0;
+};
+
+inline void evaluate(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric, LloydState& s) {
+  s.errorOfFace.resize(g.faceCount());
+  parallelFor(0, g.faceCount(), [&](std::size_t f) {
+    s.errorOfFace[f] = faceError(mesh, g, metric, f, s.proxies[s.regionOfFace[f]]);
+  });
+  s.error = 0;
+  for (const double e : s.errorOfFace) s.error += e;
+}
+
+/// One Lloyd iteration: flood from the current regions' best faces, then refit and re-evaluate.
+inline void lloydIteration(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric, LloydState& s) {
+  const auto seeds = regionSeeds(s.errorOfFace, s.regionOfFace, s.proxies.size());
+  s.regionOfFace = flood(mesh, g, metric, seeds, s.proxies);
+  fitProxies(mesh, g, metric, s.regionOfFace, s.proxies);
+  evaluate(mesh, g, metric, s);
+}
+
+/// Starts from the given seed faces: each seed's proxy is its face's plane, then one flood.
+inline LloydState startFromSeeds(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
+                                 const std::vector<std::uint32_t>& seeds) {
+  LloydState s;
+  s.proxies.resize(seeds.size());
+  for (std::size_t r = 0; r < seeds.size(); ++r)
+    s.proxies[r] = {g.centroid[seeds[r]],
+                    g.area[seeds[r]] > 0 ? g.normal[seeds[r]] : Vec3d(0, 0, 1)};
+  s.regionOfFace = flood(mesh, g, metric, seeds, s.proxies);
+  fitProxies(mesh, g, metric, s.regionOfFace, s.proxies);
+  evaluate(mesh, g, metric, s);
+  return s;
+}
+
+/// One seed per component (its first face), then the face farthest from all seeds, until k.
+inline std::vector<std::uint32_t> farthestPointSeeds(const FaceGraph& g, std::size_t k) {
+  std::vector<double> distance(g.faceCount(), std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> seeds;
+  while (seeds.size() < k) {
+    const std::uint32_t next = argMax(distance);
+    if (distance[next] == 0) break;  // every face is a seed
+    seeds.push_back(next);
+    lowerDistances(g, next, distance);
+  }
+  return seeds;
+}
+
+/// Hierarchical seeding: one proxy per component, then rounds that add up to half as many proxies
+/// again, each in the region of largest remaining error (at its worst face), with a few Lloyd
+/// iterations after each round.
+inline LloydState hierarchicalSeeds(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
+                                    std::size_t k, const std::function<void(double)>& progress) {
+  // Component ids are numbered in order of their first face.
+  std::vector<std::uint32_t> seeds;
+  for (std::uint32_t f = 0; f < g.faceCount(); ++f)
+    if (g.componentOfFace[f] == seeds.size()) seeds.push_back(f);
+  LloydState s = startFromSeeds(mesh, g, metric, seeds);
+  constexpr int kRelaxationsPerRound = 3;
+  while (s.proxies.size() < k) {
+    const std::size_t add = std::min(k - s.proxies.size(), std::max<std::size_t>(1, s.proxies.size() / 2));
+    std::vector<double> regionError(s.proxies.size(), 0);
+    for (std::size_t f = 0; f < g.faceCount(); ++f) regionError[s.regionOfFace[f]] += s.errorOfFace[f];
+    // The worst face of each region: a new proxy there splits the region. On ties the last such
+    // face, so that a region of equal errors (a proxy midway between two planes) still splits
+    // away from its seed, which is the first face of least error.
+    std::vector<std::uint32_t> worst(s.proxies.size(), kInvalidId);
+    for (std::uint32_t f = 0; f < g.faceCount(); ++f) {
+      const std::uint32_t r = s.regionOfFace[f];
+      if (worst[r] == kInvalidId || s.errorOfFace[f] >= s.errorOfFace[worst[r]]) worst[r] = f;
+    }
+    auto nextSeeds = regionSeeds(s.errorOfFace, s.regionOfFace, s.proxies.size());
+    std::size_t added = 0;
+    for (std::size_t attempt = 0; attempt < regionError.size() && added < add; ++attempt) {
+      const std::uint32_t r = argMax(regionError);
+      if (regionError[r] <= 0) break;  // every region is exact: more proxies buy nothing
+      regionError[r] = 0;              // one new proxy per region per round
+      if (worst[r] == nextSeeds[r]) continue;  // its error sits at its seed: nothing to split
+      nextSeeds.push_back(worst[r]);
+      s.proxies.push_back({g.centroid[worst[r]], g.area[worst[r]] > 0 ? g.normal[worst[r]] : Vec3d(0, 0, 1)});
+      ++added;
+    }
+    if (added == 0) break;
+    s.regionOfFace = flood(mesh, g, metric, nextSeeds, s.proxies);
+    fitProxies(mesh, g, metric, s.regionOfFace, s.proxies);
+    evaluate(mesh, g, metric, s);
+    for (int i = 0; i < kRelaxationsPerRound; ++i) lloydIteration(mesh, g, metric, s);
+    if (progress) progress(0.5 * double(s.proxies.size()) / double(k));
+  }
+  return s;
+}
+
+}  // namespace detail
+
+/// Partitions the mesh into options.proxies regions (at least one per connected component).
+/// Throws Error(InvalidInput) for a mesh without triangles or of zero area.
+inline VsaPartition partitionVsa(const TriangleMesh& mesh, const VsaOptions& options = {}) {
+  mesh.validate();
+  if (mesh.triangles.empty()) throw Error(ErrorKind::InvalidInput, "VSA", "the mesh has no triangles");
+  if (options.proxies < 1) throw Error(ErrorKind::InvalidInput, "VSA", "the proxy count must be at least 1");
+  const FaceGraph g = buildFaceGraph(mesh);
+  double total = 0;
+  for (const double a : g.area) total += a;
+  if (!(total > 0)) throw Error(ErrorKind::InvalidInput, "VSA", "every triangle has zero area");
+  const std::size_t k = std::min(std::max<std::size_t>(std::size_t(options.proxies), std::size_t(g.components)),
+                                 g.faceCount());
+  detail::LloydState s =
+      options.seeding == VsaSeeding::FarthestPoint
+          ? detail::startFromSeeds(mesh, g, options.metric, detail::farthestPointSeeds(g, k))
+          : detail::hierarchicalSeeds(mesh, g, options.metric, k, options.progress);
+  VsaPartition result;
+  result.requestedProxies = options.proxies;
+  result.components = g.components;
+  result.errorPerIteration.push_back(s.error);
+  for (int i = 0; i < options.maxIterations; ++i) {
+    const double before = s.error;
+    detail::LloydState next = s;
+    detail::lloydIteration(mesh, g, options.metric, next);
+    // Flooding is a heuristic step: keep the better of the two, so the error never rises.
+    if (next.error <= before) s = std::move(next);
+    result.errorPerIteration.push_back(s.error);
+    if (options.progress) options.progress(0.5 + 0.5 * double(i + 1) / double(options.maxIterations));
+    if (before - s.error <= options.tolerance * before) break;
+  }
+  result.regionOfFace = std::move(s.regionOfFace);
+  result.proxies = std::move(s.proxies);
+  result.regionError.assign(result.proxies.size(), 0);
+  for (std::size_t f = 0; f < g.faceCount(); ++f) result.regionError[result.regionOfFace[f]] += s.errorOfFace[f];
+  result.error = s.error;
+  return result;
+}
+
+}  // namespace cellrelief::geotex

@@ -1,0 +1,261 @@
+// SPDX-License-Identifier: MIT
+/// @file geotex_tracer.h
+/// Ray casting of geometry textures (de Toledo, Wang, Levy, CGF 2008, section 4.1), the CPU
+/// reference: a BVH over the charts' oriented boxes; in each box the ray is searched against the
+/// height map by linear steps, as many as the texels the ray's slant makes it cross (a steep ray
+/// crosses few and takes few steps, a grazing one as many as it passes), then a binary search in
+/// the step where it first goes from above the surface to below it, and a last secant step.
+/// Overlapping boxes (the charts' rings) resolve to the nearest hit.
+///
+/// The surface in a chart: heights interpolated bilinearly between texel centres over the texels
+/// that hold a height; where the texel under the point is empty there is no surface. A hit is a
+/// passage from above the surface to below it: a ray that enters a box below the surface (through
+/// a side or from inside the solid), or that runs from an empty texel into the side of the height
+/// field, must rise above the surface before a hit counts, so walls are never surfaces.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "cellrelief/core/aabb.h"
+#include "cellrelief/core/bvh.h"
+#include "cellrelief/core/hit.h"
+#include "cellrelief/core/math.h"
+#include "cellrelief/core/octahedral.h"
+#include "cellrelief/core/quantize.h"
+#include "cellrelief/core/ray.h"
+#include "cellrelief/geotex/geotex_model.h"
+
+namespace cellrelief::trace {
+
+struct GeoTexTraceOptions {
+  float linearStepsPerTexel = 1.0f;  ///< linear steps per texel the ray crosses in x and y
+  int minLinearSteps = 3;            ///< a ray along z still takes this many
+  int binarySteps = 8;
+};
+
+/// Counts of the work done, for benchmarks (per tracer call; not thread-shared).
+struct GeoTexTraceStats {
+  std::uint64_t boxes = 0;    ///< boxes the ray entered
+  std::uint64_t samples = 0;  ///< height-map evaluations
+};
+
+template <Real T>
+class GeoTexTracer {
+ public:
+  GeoTexTracer() = default;
+  explicit GeoTexTracer(const geotex::GeoTexModel& model, const GeoTexTraceOptions& options = {})
+      : mModel(&model), mOptions(options) {
+    std::vector<Aabb<T>> boxes;
+    boxes.reserve(model.charts.size());
+    for (const geotex::ChartBox& c : model.charts) {
+      Chart chart;
+      chart.origin = Vec3<T>(c.originWS);
+      chart.rowX = Vec3<T>(c.axisWS[0] * (double(c.width) / c.sizeWS.x));
+      chart.rowY = Vec3<T>(c.axisWS[1] * (double(c.height) / c.sizeWS.y));
+      chart.rowZ = Vec3<T>(c.axisWS[2]);
+      chart.box = Aabb<T>(Vec3<T>(0), Vec3<T>(T(c.width), T(c.height), T(c.sizeWS.z)));
+      chart.heightScale = T(c.sizeWS.z) / T(model.heightCodec.largestCode());
+      chart.width = int(c.width);
+      chart.height = int(c.height);
+      chart.firstTexel = c.firstTexel;
+      mCharts.push_back(chart);
+      const Aabbd b = c.boundsWS();
+      boxes.push_back(Aabb<T>(Vec3<T>(b.min), Vec3<T>(b.max)));
+      const Vec2d texel = c.texelSizeWS();
+      mSurfaceOffset = std::max(mSurfaceOffset, T(2 * std::max(texel.x, texel.y)));
+    }
+    mBvh = BoxBvh<T>(boxes);
+  }
+
+  const geotex::GeoTexModel& model() const { return *mModel; }
+  const BoxBvh<T>& bvh() const { return mBvh; }
+
+  /// The nearest hit in [ray.tmin, ray.tmax): t, the unit shading normal in world space (as
+  /// geometricNormal), primId the chart, u and v the chart coordinates in texels; geomId 0.
+  Hit<T> intersect(const Ray<T>& ray, GeoTexTraceStats* stats = nullptr) const {
+    Hit<T> best;
+    T tmax = ray.tmax;
+    mBvh.traverse(ray, tmax, [&](std::uint32_t slot, T& limit) {
+      const std::uint32_t c = mBvh.primitiveIds()[slot];
+      if (intersectChart(ray, c, limit, best, stats)) limit = best.t;
+      return false;
+    });
+    if (!best.valid()) best.t = std::numeric_limits<T>::infinity();
+    return best;
+  }
+
+  /// Whether anything lies on the ray in [tmin, tmax) (shadow rays).
+  bool occluded(const Ray<T>& ray) const {
+    Hit<T> scratch;
+    bool found = false;
+    T tmax = ray.tmax;
+    mBvh.traverse(ray, tmax, [&](std::uint32_t slot, T& limit) {
+      found = intersectChart(ray, mBvh.primitiveIds()[slot], limit, scratch, nullptr);
+      return found;
+    });
+    return found;
+  }
+
+  /// The surface height of chart c at chart point (x, y), or -infinity where there is none.
+  T heightAt(std::uint32_t c, T x, T y) const { return height(mCharts[c], x, y); }
+
+  /// The base colour at a hit (0..1): the colour map filtered like the heights, or the neutral
+  /// grey of every representation when the model has no colour.
+  Vec3f colorAt(const Hit<T>& hit) const {
+    if (!mModel->hasColors() || !hit.valid()) return Vec3f(kNeutralGrey);
+    const Taps t = taps(mCharts[hit.primId], hit.u, hit.v);
+    if (!(t.total > 0)) return Vec3f(kNeutralGrey);
+    Vec3f c(0);
+    for (int k = 0; k < 4; ++k) c += float(t.weight[k] / t.total) * Vec3f(Vec4f(mModel->colors[t.texel[k]]));
+    return c / 255.0f;
+  }
+
+  /// How far a secondary ray starts off the surface (world units): two texels of the coarsest
+  /// chart, past the reach of the height field's own error.
+  T surfaceOffset() const { return mSurfaceOffset; }
+
+  static constexpr float kNeutralGrey = 200.0f / 255;
+
+ private:
+  struct Chart {
+    Vec3<T> origin, rowX, rowY, rowZ;  // world -> chart: ((p - origin) . rowX, ...)
+    Aabb<T> box;
+    T heightScale = 1;
+    int width = 0, height = 0;
+    std::uint64_t firstTexel = 0;
+  };
+
+  /// Bilinear taps around (x, y) over texel centres, clamped to the map; weights of empty taps 0.
+  struct Taps {
+    std::uint64_t texel[4];
+    T weight[4];
+    T total = 0;
+  };
+
+  Taps taps(const Chart& c, T x, T y) const {
+    Taps t;
+    const int ni = std::clamp(int(std::floor(x)), 0, c.width - 1), nj = std::clamp(int(std::floor(y)), 0, c.height - 1);
+    if (mModel->heights[c.firstTexel + std::uint64_t(nj) * c.width + ni] == mModel->heightCodec.emptyCode())
+      return t;  // no surface under this point
+    const T fx = x - T(0.5), fy = y - T(0.5);
+    const int i0 = int(std::floor(fx)), j0 = int(std::floor(fy));
+    const T ax = fx - T(i0), ay = fy - T(j0);
+    for (int k = 0; k < 4; ++k) {
+      const int i = std::clamp(i0 + (k & 1), 0, c.width - 1), j = std::clamp(j0 + (k >> 1), 0, c.height - 1);
+      t.texel[k] = c.firstTexel + std::uint64_t(j) * c.width + i;
+      const T w = ((k & 1) ? ax : 1 - ax) * ((k >> 1) ? ay : 1 - ay);
+      t.weight[k] = mModel->heights[t.texel[k]] == mModel->heightCodec.emptyCode() ? T(0) : w;
+      t.total += t.weight[k];
+    }
+    return t;
+  }
+
+  T height(const Chart& c, T x, T y) const {
+    const Taps t = taps(c, x, y);
+    if (!(t.total > 0)) return -std::numeric_limits<T>::infinity();
+    T h = 0;
+    for (int k = 0; k < 4; ++k) h += t.weight[k] * T(mModel->heights[t.texel[k]]);
+    return h / t.total * c.heightScale;
+  }
+
+  Vec3<T> normal(const Chart& c, T x, T y) const {
+    const Taps t = taps(c, x, y);
+    Vec3<T> n(0);
+    for (int k = 0; k < 4; ++k) {
+      if (t.weight[k] == 0) continue;
+      const std::uint32_t e = mModel->normals[t.texel[k]];
+      const Vec2f uv(dequantizeUnorm<std::uint16_t>(std::uint16_t(e & 0xffffu)),
+                     dequantizeUnorm<std::uint16_t>(std::uint16_t(e >> 16)));
+      n += t.weight[k] * Vec3<T>(octahedralDecode(uv));
+    }
+    const T len = glm::length(n);
+    return len > 0 ? n / len : Vec3<T>(0, 0, 1);
+  }
+
+  /// Searches chart c for a hit before `limit`; on success fills `hit` and returns true.
+  bool intersectChart(const Ray<T>& rayWS, std::uint32_t index, T limit, Hit<T>& hit,
+                      GeoTexTraceStats* stats) const {
+    const Chart& c = mCharts[index];
+    const Vec3<T> d0 = rayWS.origin - c.origin;
+    const Vec3<T> o(glm::dot(d0, c.rowX), glm::dot(d0, c.rowY), glm::dot(d0, c.rowZ));
+    const Vec3<T> d(glm::dot(rayWS.direction, c.rowX), glm::dot(rayWS.direction, c.rowY),
+                    glm::dot(rayWS.direction, c.rowZ));
+    const Ray<T> ray(o, d, rayWS.tmin, limit);
+    const RayInterval<T> span = cellrelief::intersect(ray, c.box);
+    if (!span.hit) return false;
+    if (stats) ++stats->boxes;
+    const T texelsCrossed = std::hypot(d.x, d.y) * (span.t1 - span.t0);
+    const int steps = std::clamp(int(std::ceil(texelsCrossed * T(mOptions.linearStepsPerTexel))),
+                                 mOptions.minLinearSteps, 4 * (c.width + c.height) + mOptions.minLinearSteps);
+    const T dt = (span.t1 - span.t0) / T(steps);
+    // gap = ray z - surface height: +infinity over an empty texel (no surface), positive above
+    // the surface, not positive below it.
+    auto gapAt = [&](T t) {
+      const Vec3<T> p = o + t * d;
+      if (stats) ++stats->samples;
+      return p.z - height(c, p.x, p.y);
+    };
+    T tBefore = span.t0;
+    T gapBefore = gapAt(span.t0);
+    for (int k = 1; k <= steps; ++k) {
+      const T t = k == steps ? span.t1 : span.t0 + T(k) * dt;
+      const T gap = gapAt(t);
+      if (gap <= 0 && gapBefore > 0) {
+        if (std::isfinite(gapBefore)) return refine(c, o, d, tBefore, t, gapBefore, gap, index, hit, gapAt);
+        // From no surface to below one: either the ray passed the map's edge above the surface
+        // and then went down through it (a hit), or it ran into the side of the height field
+        // (a wall, not a surface). The edge crossing tells which.
+        T ta = tBefore, tb = t;
+        for (int b = 0; b < mOptions.binarySteps + 4; ++b) {
+          const T tm = T(0.5) * (ta + tb);
+          const T gm = gapAt(tm);
+          if (gm > 0 && std::isfinite(gm)) return refine(c, o, d, tm, tb, gm, gap, index, hit, gapAt);
+          (gm > 0 ? ta : tb) = tm;
+        }
+      }
+      tBefore = t;
+      gapBefore = gap;
+    }
+    return false;
+  }
+
+  /// Binary search in [ta, tb] (above the surface at ta, below at tb), then a secant step in the
+  /// last bracket where both gaps are finite.
+  template <class GapAt>
+  bool refine(const Chart& c, const Vec3<T>& o, const Vec3<T>& d, T ta, T tb, T gapA, T gapB,
+              std::uint32_t index, Hit<T>& hit, GapAt& gapAt) const {
+    for (int k = 0; k < mOptions.binarySteps; ++k) {
+      const T tm = T(0.5) * (ta + tb);
+      const T gap = gapAt(tm);
+      if (gap > 0) {
+        ta = tm;
+        gapA = gap;
+      } else {
+        tb = tm;
+        gapB = gap;
+      }
+    }
+    T t = tb;
+    if (std::isfinite(gapA) && gapA - gapB > 0) t = ta + (tb - ta) * gapA / (gapA - gapB);
+    const Vec3<T> p = o + t * d;
+    hit.t = t;
+    hit.u = p.x;
+    hit.v = p.y;
+    hit.geometricNormal = normal(c, p.x, p.y);
+    hit.primId = index;
+    hit.geomId = 0;
+    return true;
+  }
+
+  const geotex::GeoTexModel* mModel = nullptr;
+  GeoTexTraceOptions mOptions;
+  std::vector<Chart> mCharts;
+  BoxBvh<T> mBvh;
+  T mSurfaceOffset = 0;
+};
+
+}  // namespace cellrelief::trace
