@@ -29,10 +29,6 @@ struct DemoOptions {
   int tubeSegments = 320;
 };
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 int runDemo(const DemoOptions& o) {
   std::filesystem::create_directories(o.outputDir);
   const std::filesystem::path outDir(o.outputDir);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <cellrelief/backends/backend_table.h>
+#include <cellrelief/geotex/geotex_file.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/polycube_result.h>
@@ -101,6 +102,14 @@ std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& inpu
 }
 
 render::Scene loadScene(const std::string& input) {
+  if (std::filesystem::path(input).extension() == ".cgt") {
+    render::Scene scene;
+    scene.geotexModels.push_back(std::make_shared<geotex::GeoTexModel>(geotex::readGeoTex(input)));
+    const geotex::GeoTexModel& m = *scene.geotexModels.back();
+    std::printf("geotex model  %s: %zu charts, %llu texels, %s\n", input.c_str(), m.charts.size(),
+                (unsigned long long)m.texelCount(), formatBytes(double(m.byteSize())).c_str());
+    return scene;
+  }
   if (!polycube::isPolycubeResult(input)) return render::Scene::of(loadOrConvert(input));
   render::Scene scene;
   scene.polycubeMeshes.push_back(polycube::readPolycubeResult(input));
@@ -201,7 +210,8 @@ Command addRenderCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
   auto o = std::make_shared<RenderCli>();
   cmd->add_option("model", o->input,
-                  "Relief model (.crm), mesh (.obj .ply .off .stl), or a folder written by `cellrelief polycube`")
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder "
+                  "written by `cellrelief polycube`")
       ->required();
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();

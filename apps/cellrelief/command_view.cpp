@@ -305,7 +305,8 @@ Command addViewCommand(CLI::App& app) {
               "vulkan), S shadows, K skipping, C channel (color, depth, normal, cell id, steps), P screenshot");
   auto o = std::make_shared<ViewCli>();
   cmd->add_option("model", o->input,
-                  "Relief model (.crm), mesh (.obj .ply .off .stl), or a folder written by `cellrelief polycube`")
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder "
+                  "written by `cellrelief polycube`")
       ->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);

@@ -5,6 +5,7 @@
 /// them and exits non-zero.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <string>
@@ -50,6 +51,11 @@ Command addCompareOptimizersCommand(CLI::App& app);
 /// Prints the `info` report of a mesh file (also used by `demo`).
 void printMeshInfo(const std::string& path);
 
+/// Seconds on the steady clock since `start`.
+inline double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 /// A byte count as "1.23 MiB".
 std::string formatBytes(double bytes);
 
@@ -90,11 +96,13 @@ auto withPath(const std::string& input, Work&& work) {
 std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input);
 
 /// The scene `render` and `view` show: a `cellrelief polycube` output folder (its mesh textured
-/// through its polycube map), else the relief model of loadOrConvert.
+/// through its polycube map), a geometry-texture model (.cgt), else the relief model of
+/// loadOrConvert.
 render::Scene loadScene(const std::string& input);
 
 Command addCompareBackendsCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
 Command addPolycubeCommand(CLI::App& app);
+Command addGeoTexCommand(CLI::App& app);
 
 }  // namespace cellrelief::app

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
       cellrelief::app::addIndirectCommand(app),
       cellrelief::app::addCompareOptimizersCommand(app),
       cellrelief::app::addPolycubeCommand(app),
+      cellrelief::app::addGeoTexCommand(app),
       cellrelief::app::addDemoCommand(app),
   };
 

@@ -187,6 +187,50 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
 // (three crossing coordinate planes): a model whose error is measured and finite. A "mesh" whose
 // triangles have no area at all is refused: a clear error naming the file, exit 1 and no model,
 // never an empty model reported with "rms inf%".
+TEST(Cli, GeotexConvertsMeshesAndHeightMapsAndRendersThem) {
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  const auto dem = test::dataDir() / "heightmaps/pom_dxsdk/rocks_NM_height.tga";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  CELLRELIEF_REQUIRE_FILE(dem);
+  test::TempDir dir;
+  const Result mesh = run("geotex " + spot.string() + " -o " + (dir / "spot.cgt").string() +
+                          " --charts 40 --texels 32 --picture " + (dir / "charts.png").string());
+  ASSERT_EQ(mesh.status, 0) << mesh.output;
+  for (const char* words : {"charts 40 (asked 40, 1 components)", "accuracy", "per million rays", "wrote"})
+    EXPECT_TRUE(test::hasWords(mesh.output, words)) << words << " not in " << mesh.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "charts.png"));
+  const Result image = run("geotex " + dem.string() + " -o " + (dir / "rocks.cgt").string() + " --extent 2,2,0.1");
+  ASSERT_EQ(image.status, 0) << image.output;
+  EXPECT_TRUE(test::hasWords(image.output, "one chart of 2 x 2 x 0.1")) << image.output;
+  for (const char* model : {"spot.cgt", "rocks.cgt"}) {
+    const Result r = run("render " + (dir / model).string() + " -o " + (dir / "r.png").string() +
+                         " --size 64x48 --backend cpu");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, "geotex model")) << r.output;
+    const auto picture = std::get<Image<std::uint8_t>>(io::readImage(dir / "r.png").pixels);
+    int covered = 0;  // pixels that are not the white background
+    for (int y = 0; y < picture.height(); ++y)
+      for (int x = 0; x < picture.width(); ++x) covered += picture.at(x, y, 0) != 255 || picture.at(x, y, 1) != 255;
+    EXPECT_GT(covered, 64 * 48 / 20) << model;
+  }
+  test::writeBytes(dir / "line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  const std::pair<std::string, std::string> cases[] = {
+      {"geotex " + spot.string() + " -o " + (dir / "x.crm").string(), "must end in .cgt"},
+      {"geotex " + (dir / "line.obj").string() + " -o " + (dir / "x.cgt").string(), "zero area"},
+      {"geotex " + spot.string() + " -o " + (dir / "x.cgt").string() + " --texels 100", "power of two"},
+      {"geotex " + spot.string() + " -o " + (dir / "x.cgt").string() + " --metric l3", "not l21 or l2"},
+      {"geotex " + dem.string() + " -o " + (dir / "x.cgt").string() + " --extent 1,2", "--extent '1,2'"},
+      {"render " + (dir / "line.obj").string() + ".cgt -o " + (dir / "x.png").string(), "no such file"}};
+  for (const auto& [args, words] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.cgt"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.crm"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
 TEST(Cli, FlatMeshesAndSurfacesInGridPlanesConvert) {
   test::TempDir dir;
   for (const char* name : {"degtri_four__cgal.off", "degtri_nullface__cgal.off", "degtri_sliding__cgal.off",

@@ -14,12 +14,14 @@
 
 #include <cellrelief/core/error.h>
 #include <cellrelief/core/mesh_topology.h>
+#include <cellrelief/geotex/geotex_file.h>
 #include <cellrelief/io/detail/crc32.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/polycube_file.h>
 #include <cellrelief/relief/model_file.h>
 #include <cellrelief/relief/reconstruct.h>
+#include <cellrelief/trace/geotex_tracer.h>
 
 namespace cellrelief::fuzz {
 namespace {
@@ -98,12 +100,20 @@ bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::s
   }
 }
 
-bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum) {
+namespace {
+/// The bytes, with the last four replaced by the CRC-32 of the rest when `fixChecksum` is set.
+std::vector<std::uint8_t> withChecksum(const std::uint8_t* data, std::size_t size, bool fixChecksum) {
   std::vector<std::uint8_t> bytes(data, data + size);
   if (fixChecksum && bytes.size() >= 4) {
     const std::uint32_t crc = io::detail::crc32(bytes.data(), bytes.size() - 4);
     std::memcpy(bytes.data() + bytes.size() - 4, &crc, 4);
   }
+  return bytes;
+}
+}  // namespace
+
+bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum) {
+  const std::vector<std::uint8_t> bytes = withChecksum(data, size, fixChecksum);
   const std::filesystem::path& path = scratchFor(".crm").write(bytes.data(), bytes.size());
   try {
     const relief::ReliefModel model = relief::readRelief(path);
@@ -116,6 +126,28 @@ bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum
       const double cubes = double((model.texels - 1) >> lod);
       if (double(model.cells.size()) * cubes * cubes * cubes <= double(1 << 20))
         (void)relief::reconstruct(model, {lod, relief::ReconstructionMethod::Closed});
+    }
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+bool readGeoTexBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum) {
+  const std::vector<std::uint8_t> bytes = withChecksum(data, size, fixChecksum);
+  const std::filesystem::path& path = scratchFor(".cgt").write(bytes.data(), bytes.size());
+  try {
+    const geotex::GeoTexModel model = geotex::readGeoTex(path);
+    // A model that passed validation must be traceable: rays from six sides through its bounds.
+    const trace::GeoTexTracer<float> tracer(model);
+    const Aabbd bounds = model.boundsWS();
+    const Vec3f centre(bounds.center());
+    const float reach = float(bounds.diagonal()) + 1.0f;
+    for (int a = 0; a < 6; ++a) {
+      Vec3f d(0);
+      d[a % 3] = a < 3 ? 1.0f : -1.0f;
+      const Hitf hit = tracer.intersect(Rayf(centre - reach * d + Vec3f(0.013f, 0.007f, 0.011f), d));
+      if (hit.valid() && !(hit.t >= 0)) std::abort();  // a hit behind the origin
     }
     return true;
   } catch (const Error&) {

@@ -24,6 +24,9 @@ bool readImageBytes(std::string_view extension, const std::uint8_t* data, std::s
 /// Reads the bytes as a relief model (.crm). When `fixChecksum` is set the last four bytes are
 /// replaced by the checksum of the rest first, so mutations reach the checks behind the CRC.
 bool readModelBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum);
+/// Reads the bytes as a geometry-texture model (.cgt), checksum fixed on request as for .crm, and
+/// ray casts what was read.
+bool readGeoTexBytes(const std::uint8_t* data, std::size_t size, bool fixChecksum);
 /// Reads the bytes as a polycube cube file (.txt) and checks its surface as `cellrelief polycube
 /// --cubes` does.
 bool readPolycubeBytes(const std::uint8_t* data, std::size_t size);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file fuzz_target.cpp
-/// One libFuzzer target: CELLRELIEF_FUZZ_READER picks the reader (mesh, image, model) and
+/// One libFuzzer target: CELLRELIEF_FUZZ_READER picks the reader (mesh, image, model, ...) and
 /// CELLRELIEF_FUZZ_EXTENSION the file extension it is handed, so every target is this file built
 /// with two definitions (tests/fuzz/CMakeLists.txt).
 #include <cstddef>
@@ -13,6 +13,7 @@
 #define CELLRELIEF_FUZZ_MODEL 3
 #define CELLRELIEF_FUZZ_POLYCUBE 4
 #define CELLRELIEF_FUZZ_POLYCUBE_MAP 5
+#define CELLRELIEF_FUZZ_GEOTEX 6
 
 /// Decoding costs about 0.3 us a pixel in the release build and 20 times that under ASan and
 /// UBSan, so an image of more than 2^18 pixels (a 2.9 KB JPEG can claim 625,000) passes the 1 s
@@ -34,8 +35,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cellrelief::fuzz::readPolycubeBytes(data, size);
 #elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_POLYCUBE_MAP
   cellrelief::fuzz::readPolycubeMapBytes(data, size);
+#elif CELLRELIEF_FUZZ_READER == CELLRELIEF_FUZZ_GEOTEX
+  cellrelief::fuzz::readGeoTexBytes(data, size, size > 0 && (data[size - 1] & 1));
 #else
-#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE, _MODEL, _POLYCUBE or _POLYCUBE_MAP"
+#error "CELLRELIEF_FUZZ_READER must be CELLRELIEF_FUZZ_MESH, _IMAGE, _MODEL, _POLYCUBE, _POLYCUBE_MAP or _GEOTEX"
 #endif
   return 0;
 }

@@ -15,6 +15,8 @@
 #include <stb_image_write.h>
 
 #include <cellrelief/core/procedural.h>
+#include <cellrelief/geotex/convert.h>
+#include <cellrelief/geotex/geotex_file.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/polycube_file.h>
@@ -181,6 +183,21 @@ void modelSeeds(const fs::path& root) {
   }
 }
 
+/// Geometry textures of a small sphere: 8-bit heights, and 16-bit with a colour map.
+void geotexSeeds(const fs::path& root) {
+  const fs::path dir = root / "geotex";
+  fs::create_directories(dir);
+  const TriangleMesh rich = smallSphere(true, true);
+  for (const int bits : {8, 16}) {
+    geotex::GeoTexOptions o;
+    o.vsa.proxies = 6;
+    o.maxTexels = 4;
+    o.heightBits = bits;
+    o.colors = bits == 16;
+    geotex::writeGeoTex(geotex::convertMesh(rich, o).model, dir / ("sphere_6_charts_" + std::to_string(bits) + "bit.cgt"));
+  }
+}
+
 /// Eight cubes around an empty one: genus 1.
 polycube::Polycube ringOfCubes() {
   std::vector<Vec3i> ring;
@@ -221,6 +238,7 @@ int main(int argc, char** argv) {
     meshSeeds(root);
     imageSeeds(root);
     modelSeeds(root);
+    geotexSeeds(root);
     polycubeSeeds(root);
     polycubeMapSeeds(root);
     std::cout << "fuzz seeds written under " << root << "\n";

@@ -21,7 +21,7 @@ namespace {
 const fs::path kFuzzDir = CELLRELIEF_FUZZ_DIR;
 const std::vector<std::string> kTargets{"obj",  "ply_ascii", "ply_binary", "off", "stl_ascii", "stl_binary",
                                         "png",  "jpeg",      "tga",        "bmp", "crm", "polycube",
-                                        "polycube_map"};
+                                        "polycube_map", "geotex"};
 
 std::vector<std::uint8_t> bytesOf(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -32,6 +32,7 @@ std::vector<std::uint8_t> bytesOf(const fs::path& path) {
 bool readAs(const std::string& target, const std::vector<std::uint8_t>& b) {
   using namespace cellrelief::fuzz;
   if (target == "crm") return readModelBytes(b.data(), b.size(), false);
+  if (target == "geotex") return readGeoTexBytes(b.data(), b.size(), false);
   if (target == "polycube") return readPolycubeBytes(b.data(), b.size());
   if (target == "polycube_map") return readPolycubeMapBytes(b.data(), b.size());
   const std::string ext = target.substr(0, target.find('_'));
@@ -74,7 +75,7 @@ TEST_P(FuzzTarget, TruncatedSeedsAreRefusedWhereTheFormatCanTell) {
   // without its 12-byte end chunk the image is whole); a prefix of a text file or of a TGA, BMP or
   // JPEG can still be a readable file, so there only the empty prefix must be refused.
   const std::string target = GetParam();
-  const bool sized = target == "png" || target == "crm" || target == "ply_binary" || target == "stl_binary";
+  const bool sized = target == "png" || target == "crm" || target == "geotex" || target == "ply_binary" || target == "stl_binary";
   for (const fs::path& seed : filesIn(kFuzzDir / "corpus" / target)) {
     const std::vector<std::uint8_t> whole = bytesOf(seed);
     const std::size_t step = std::max<std::size_t>(1, whole.size() / 64);

@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
 /// @file scene.h
-/// What a backend renders: relief models and polycube-mapped meshes placed in world space, and
-/// the lights that shade them. The scene holds them by shared pointer so that one converted model
-/// can be uploaded to several backends (the backend-switching tests render the same scene on
-/// each) without copies.
+/// What a backend renders: relief models, geometry textures and polycube-mapped meshes placed in
+/// world space, and the lights that shade them. The scene holds them by shared pointer so that one
+/// converted model can be uploaded to several backends (the backend-switching tests render the
+/// same scene on each) without copies.
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "cellrelief/core/aabb.h"
+#include "cellrelief/geotex/geotex_model.h"
 #include "cellrelief/polycube/textured_mesh.h"
 #include "cellrelief/relief/relief_model.h"
 
@@ -25,6 +26,7 @@ struct DirectionalLight {
 struct Scene {
   std::vector<std::shared_ptr<const relief::ReliefModel>> models;
   std::vector<std::shared_ptr<const polycube::TexturedMesh>> polycubeMeshes;
+  std::vector<std::shared_ptr<const geotex::GeoTexModel>> geotexModels;
   std::vector<DirectionalLight> lights = std::vector<DirectionalLight>(1);  ///< one default light
   Vec3f ambient{0.18f};
   Vec4f background{1.0f, 1.0f, 1.0f, 0.0f};  ///< RGBA of pixels that hit nothing
@@ -36,7 +38,7 @@ struct Scene {
     return scene;
   }
 
-  /// The union of the models' grids and the meshes' bounds (world space).
+  /// The union of the models' grids, the meshes' bounds and the charts' boxes (world space).
   Aabbd boundsWS() const {
     Aabbd box;
     for (const auto& m : models) {
@@ -48,6 +50,7 @@ struct Scene {
       box.extend(Vec3d(b.min));
       box.extend(Vec3d(b.max));
     }
+    for (const auto& m : geotexModels) box.extend(m->boundsWS());
     return box;
   }
 };

@@ -71,7 +71,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   void upload(const render::Scene& scene) override {
     mContext->makeCurrent();
     releaseScene();
-    gpu::checkLights(scene, "the OpenGL backend");
+    gpu::checkSceneSupported(scene, "the OpenGL backend");
     // Polycube meshes use storage binding 10; OpenGL 4.3 promises only 8 (llvmpipe and the GPU
     // drivers have more).
     if (!scene.polycubeMeshes.empty() && mStorageBindings <= 10)

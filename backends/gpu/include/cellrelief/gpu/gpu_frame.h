@@ -165,11 +165,17 @@ inline FrameParams frameParams(const render::Scene& scene, const render::Camera&
   return p;
 }
 
-/// A scene the GPU backends can shade: at most kMaxLights lights (the uniform block's array).
-inline void checkLights(const render::Scene& scene, const char* backend) {
+/// A scene the GPU backends can shade: at most kMaxLights lights (the uniform block's array), and
+/// only the representations their shader traces.
+inline void checkSceneSupported(const render::Scene& scene, const char* backend) {
   if (scene.lights.size() > std::size_t(kMaxLights))
     throw Error(ErrorKind::InvalidArgument, std::string(backend) + " shades at most " + std::to_string(kMaxLights) +
                                                 " lights; the scene has " + std::to_string(scene.lights.size()));
+  // Refused rather than drawn without them: a picture that silently lacks part of the scene
+  // would pass for a rendering of it.
+  if (!scene.geotexModels.empty())
+    throw Error(ErrorKind::Unsupported, std::string(backend) +
+                                            " does not render geometry textures yet; the cpu backend does");
 }
 
 /// Whether the rasterized entry (rays started where the cells' cover is drawn) sees everything

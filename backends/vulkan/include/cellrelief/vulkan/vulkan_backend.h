@@ -62,7 +62,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     checkAlive();
     waitForFrame();
     releaseScene();
-    gpu::checkLights(scene, "the Vulkan backend");
+    gpu::checkSceneSupported(scene, "the Vulkan backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     guard([&] { uploadScene(); });
