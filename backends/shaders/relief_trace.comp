@@ -8,7 +8,8 @@
 //    types present), CR_OCT_NORMALS, CR_RGBA_NORMALS, CR_COLORS (maps present), CR_SKIP, CR_SKIP_CENTRAL,
 //    CR_SHADOWS, CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
 //    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels),
-//    CR_POLYCUBE (polycube-mapped meshes present; gpu/polycube_layout.h);
+//    CR_POLYCUBE (polycube-mapped meshes present; gpu/polycube_layout.h), CR_GEOTEX (geometry
+//    textures present; gpu/geotex_layout.h);
 //    OpenGL compiles them as plain constants, Vulkan as specialization constants of one SPIR-V
 //    module; either way the compiler removes the branches a variant switches off;
 //  - the workgroup size and the number of lights.
@@ -1400,6 +1401,252 @@ void pcShade(int mesh, MeshHit h, vec3 direction, float spread, out vec3 normal,
   }
 }
 
+// ---- geometry textures (trace/geotex_tracer.h; the words of gpu/geotex_layout.h) ---------------
+
+layout(std430, CR_BIND(12)) readonly buffer GeoTexWords { uint gtWords[]; };
+
+#define CR_GT_NO_SURFACE 1e30  // a height below any surface: the gap above it counts as "no surface"
+
+int gtModelCount() { return CR_GEOTEX ? int(gtWords[0]) : 0; }
+uint gtInfo(int model, int field) { return gtWords[1 + model * CR_GT_MODEL_INFO_WORDS + field]; }
+float gtFloat(uint index) { return uintBitsToFloat(gtWords[index]); }
+vec3 gtVec3(uint index) { return vec3(gtFloat(index), gtFloat(index + 1u), gtFloat(index + 2u)); }
+
+struct ChartHit {
+  float t;
+  vec2 uv;    // chart coordinates in texels
+  int chart;  // -1: none
+};
+
+struct Chart {
+  vec3 origin, rowX, rowY, rowZ, boxSize;
+  float heightScale;
+  int width, height;
+  uint firstTexel;
+  uint heightBase;  // the model's height words
+  uint emptyCode;
+};
+
+Chart gtChart(int model, int c) {
+  const uint at = gtInfo(model, CR_GT_CHART_OFFSET) + uint(c) * uint(CR_GT_CHART_WORDS);
+  Chart ch;
+  ch.origin = gtVec3(at + uint(CR_GT_ORIGIN));
+  ch.rowX = gtVec3(at + uint(CR_GT_ROW_X));
+  ch.rowY = gtVec3(at + uint(CR_GT_ROW_Y));
+  ch.rowZ = gtVec3(at + uint(CR_GT_ROW_Z));
+  ch.boxSize = gtVec3(at + uint(CR_GT_BOX_SIZE));
+  ch.heightScale = gtFloat(at + uint(CR_GT_HEIGHT_SCALE));
+  ch.width = int(gtWords[at + uint(CR_GT_WIDTH)]);
+  ch.height = int(gtWords[at + uint(CR_GT_HEIGHT)]);
+  ch.firstTexel = gtWords[at + uint(CR_GT_FIRST_TEXEL)];
+  ch.heightBase = gtInfo(model, CR_GT_HEIGHT_OFFSET);
+  ch.emptyCode = gtInfo(model, CR_GT_EMPTY_CODE);
+  return ch;
+}
+
+uint gtCode(Chart ch, uint texel) {
+  const uint w = gtWords[ch.heightBase + texel / 2u];
+  return (texel & 1u) != 0u ? w >> 16 : w & 0xffffu;
+}
+
+// GeoTexTracer::taps: bilinear taps over texel centres, clamped; empty taps weigh 0, and no tap
+// at all counts where the texel under the point is empty.
+float gtTaps(Chart ch, vec2 p, out uint texels[4], out float weights[4]) {
+  for (int k = 0; k < 4; ++k) {
+    texels[k] = 0u;
+    weights[k] = 0.0;
+  }
+  const int ni = clamp(int(floor(p.x)), 0, ch.width - 1), nj = clamp(int(floor(p.y)), 0, ch.height - 1);
+  if (gtCode(ch, ch.firstTexel + uint(nj * ch.width + ni)) == ch.emptyCode) return 0.0;
+  const vec2 f = p - 0.5;
+  const int i0 = int(floor(f.x)), j0 = int(floor(f.y));
+  const float ax = f.x - float(i0), ay = f.y - float(j0);
+  float total = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const int i = clamp(i0 + (k & 1), 0, ch.width - 1), j = clamp(j0 + (k >> 1), 0, ch.height - 1);
+    texels[k] = ch.firstTexel + uint(j * ch.width + i);
+    const float w = ((k & 1) != 0 ? ax : 1.0 - ax) * ((k >> 1) != 0 ? ay : 1.0 - ay);
+    weights[k] = gtCode(ch, texels[k]) == ch.emptyCode ? 0.0 : w;
+    total += weights[k];
+  }
+  return total;
+}
+
+// GeoTexTracer::height: the surface height at chart point p, -CR_GT_NO_SURFACE where none.
+float gtHeight(Chart ch, vec2 p) {
+  uint texels[4];
+  float weights[4];
+  const float total = gtTaps(ch, p, texels, weights);
+  if (!(total > 0.0)) return -CR_GT_NO_SURFACE;
+  float h = 0.0;
+  for (int k = 0; k < 4; ++k) h += weights[k] * float(gtCode(ch, texels[k]));
+  return h / total * ch.heightScale;
+}
+
+float gtGap(Chart ch, vec3 o, vec3 d, float t, inout uint samples) {
+  const vec3 p = o + t * d;
+  ++samples;
+  return p.z - gtHeight(ch, p.xy);
+}
+
+bool gtHasSurface(float gap) { return gap < 0.5 * CR_GT_NO_SURFACE; }
+
+// GeoTexTracer::refine: binary search from above (ta) to below (tb), then a secant step.
+float gtRefine(Chart ch, vec3 o, vec3 d, float ta, float tb, float gapA, float gapB, inout uint samples) {
+  for (int k = 0; k < CR_GT_BINARY_STEPS; ++k) {
+    const float tm = 0.5 * (ta + tb);
+    const float gap = gtGap(ch, o, d, tm, samples);
+    if (gap > 0.0) {
+      ta = tm;
+      gapA = gap;
+    } else {
+      tb = tm;
+      gapB = gap;
+    }
+  }
+  return gtHasSurface(gapA) && gapA - gapB > 0.0 ? ta + (tb - ta) * gapA / (gapA - gapB) : tb;
+}
+
+// GeoTexTracer::intersectChart: the chart's box in chart units (the slab test of core/aabb.h),
+// linear steps by the texels crossed, a passage from above the surface to below it.
+bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout ChartHit hit, inout uint samples) {
+  const Chart ch = gtChart(model, c);
+  const vec3 d0 = ro - ch.origin;
+  const vec3 o = vec3(dot(d0, ch.rowX), dot(d0, ch.rowY), dot(d0, ch.rowZ));
+  const vec3 d = vec3(dot(rd, ch.rowX), dot(rd, ch.rowY), dot(rd, ch.rowZ));
+  const vec3 inv = 1.0 / d;
+  float t0 = 0.0, t1 = limit;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < 0.0 || o[a] > ch.boxSize[a]) return false;
+      continue;
+    }
+    float tNear = (0.0 - o[a]) * inv[a], tFar = (ch.boxSize[a] - o[a]) * inv[a];
+    if (tNear > tFar) {
+      const float swapped = tNear;
+      tNear = tFar;
+      tFar = swapped;
+    }
+    tFar *= 1.0 + 2.0 * CR_GAMMA3;
+    t0 = max(t0, tNear);
+    t1 = min(t1, tFar);
+    if (t0 > t1) return false;
+  }
+  const float texelsCrossed = length(d.xy) * (t1 - t0);
+  const int steps = clamp(int(ceil(texelsCrossed * CR_GT_STEPS_PER_TEXEL)), CR_GT_MIN_LINEAR_STEPS,
+                          4 * (ch.width + ch.height) + CR_GT_MIN_LINEAR_STEPS);
+  const float dt = (t1 - t0) / float(steps);
+  float tBefore = t0;
+  float gapBefore = gtGap(ch, o, d, t0, samples);
+  for (int k = 1; k <= steps; ++k) {
+    const float t = k == steps ? t1 : t0 + float(k) * dt;
+    const float gap = gtGap(ch, o, d, t, samples);
+    if (gap <= 0.0 && gapBefore > 0.0) {
+      float found = -1.0;
+      if (gtHasSurface(gapBefore)) {
+        found = gtRefine(ch, o, d, tBefore, t, gapBefore, gap, samples);
+      } else {
+        // From no surface to below one: a hit only if the ray was above the surface where the
+        // map's edge was crossed, not if it ran into the side of the height field.
+        float ta = tBefore, tb = t;
+        for (int b = 0; b < CR_GT_BINARY_STEPS + 4; ++b) {
+          const float tm = 0.5 * (ta + tb);
+          const float gm = gtGap(ch, o, d, tm, samples);
+          if (gm > 0.0 && gtHasSurface(gm)) {
+            found = gtRefine(ch, o, d, tm, tb, gm, gap, samples);
+            break;
+          }
+          if (gm > 0.0) ta = tm;
+          else tb = tm;
+        }
+      }
+      if (found >= 0.0) {
+        hit.t = found;
+        hit.uv = (o + found * d).xy;
+        hit.chart = c;
+        return true;
+      }
+    }
+    tBefore = t;
+    gapBefore = gap;
+  }
+  return false;
+}
+
+// GeoTexTracer::intersect over one model: its BVH of chart boxes, nearest hit before tmax.
+ChartHit gtTrace(int model, vec3 o, vec3 d, float tmax, bool anyHit, inout uint samples) {
+  ChartHit best = ChartHit(tmax, vec2(0.0), -1);
+  const uint nodeBase = gtInfo(model, CR_GT_NODE_OFFSET), primitives = gtInfo(model, CR_GT_PRIMITIVE_OFFSET);
+  const vec3 inv = 1.0 / d;
+  uint stack[64];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    const uint node = stack[--top];
+    const uint at = nodeBase + node * uint(CR_GT_NODE_WORDS);
+    if (!pcBoxReached(o, d, inv, gtVec3(at), gtVec3(at + 3u), best.t)) continue;
+    const uint first = gtWords[at + 6u], count = gtWords[at + 7u];
+    if (count == 0u) {
+      if (top < 62) {
+        stack[top++] = first;       // the right child
+        stack[top++] = node + 1u;   // the left child, next
+      }
+      continue;
+    }
+    for (uint i = first; i < first + count; ++i)
+      if (gtIntersectChart(model, int(gtWords[primitives + i]), o, d, best.t, best, samples) && anyHit) return best;
+  }
+  return best;
+}
+
+// The nearest chart hit before tmax (CpuBackend::intersect, after relief models and meshes).
+int gtTraceModels(vec3 o, vec3 d, float tmax, out ChartHit best, inout uint samples) {
+  best = ChartHit(tmax, vec2(0.0), -1);
+  int found = -1;
+  for (int m = 0; m < gtModelCount(); ++m) {
+    const ChartHit h = gtTrace(m, o, d, best.t, false, samples);
+    if (h.chart >= 0 && h.t < best.t) {
+      best = h;
+      found = m;
+    }
+  }
+  return found;
+}
+
+bool gtOccluded(vec3 o, vec3 d) {
+  uint samples = 0u;
+  for (int m = 0; m < gtModelCount(); ++m)
+    if (gtTrace(m, o, d, CR_INF, true, samples).chart >= 0) return true;
+  return false;
+}
+
+float gtSurfaceOffset(int model) { return uintBitsToFloat(gtInfo(model, CR_GT_SURFACE_OFFSET)); }
+
+// GeoTexTracer's normal and colorAt: the maps filtered like the heights.
+void gtShade(int model, ChartHit h, out vec3 normal, out vec3 base) {
+  const Chart ch = gtChart(model, h.chart);
+  uint texels[4];
+  float weights[4];
+  const float total = gtTaps(ch, h.uv, texels, weights);
+  const uint normalBase = gtInfo(model, CR_GT_NORMAL_OFFSET), colorBase = gtInfo(model, CR_GT_COLOR_OFFSET);
+  vec3 n = vec3(0.0), c = vec3(0.0);
+  for (int k = 0; k < 4; ++k) {
+    if (weights[k] == 0.0) continue;
+    const uint e = gtWords[normalBase + texels[k]];
+    // octahedralDecode of core/octahedral.h
+    vec2 oct = vec2(float(e & 0xffffu), float(e >> 16)) / 65535.0;
+    oct = oct * 2.0 - 1.0;
+    vec3 m = vec3(oct.x, oct.y, 1.0 - abs(oct.x) - abs(oct.y));
+    const float t = max(-m.z, 0.0);
+    m.x += m.x >= 0.0 ? -t : t;
+    m.y += m.y >= 0.0 ? -t : t;
+    n += weights[k] * normalize(m);
+    if (colorBase != 0u) c += (weights[k] / total) * vec3(unpackUnorm4x8(gtWords[colorBase + texels[k]]).rgb);
+  }
+  normal = length(n) > 0.0 ? normalize(n) : vec3(0.0, 0.0, 1.0);
+  base = colorBase != 0u && total > 0.0 ? c : vec3(CR_GT_NEUTRAL_GREY);
+}
+
 // ---- the scene ---------------------------------------------------------------------------------
 
 // The nearest hit over the scene's models (CpuBackend::intersect); leaves that model selected.
@@ -1424,6 +1671,7 @@ Hit traceScene(vec3 o, vec3 d, out int hitModel) {
 
 bool occludedScene(vec3 o, vec3 d) {
   if (CR_POLYCUBE && pcOccluded(o, d)) return true;
+  if (CR_GEOTEX && gtOccluded(o, d)) return true;
   for (int m = 0; m < P.size.z; ++m) {
     selectModel(m);
     if (traceModel(o, d, 0.0, CR_INF).cell >= 0) return true;
@@ -1578,9 +1826,14 @@ void main() {
   int model;
   const Hit hit = traceScene(eye, direction, model);
   MeshHit meshHit;
-  const int mesh = CR_POLYCUBE ? pcTraceMeshes(eye, direction, hit.cell >= 0 ? hit.t : CR_INF, meshHit) : -1;
-  if (CR_OUT_STEPS) frameWords[P.offsets.w + index] = floatBitsToUint(float(hit.steps));
-  if (hit.cell < 0 && mesh < 0) {
+  int mesh = CR_POLYCUBE ? pcTraceMeshes(eye, direction, hit.cell >= 0 ? hit.t : CR_INF, meshHit) : -1;
+  ChartHit chartHit;
+  uint samples = hit.steps;
+  const int charts = CR_GEOTEX ? gtTraceModels(eye, direction, mesh >= 0 ? meshHit.t : (hit.cell >= 0 ? hit.t : CR_INF),
+                                               chartHit, samples) : -1;
+  if (charts >= 0) mesh = -1;  // nearer than both
+  if (CR_OUT_STEPS) frameWords[P.offsets.w + index] = floatBitsToUint(float(samples));
+  if (hit.cell < 0 && mesh < 0 && charts < 0) {
     if (CR_OUT_COLOR) {
       const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
       frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
@@ -1594,7 +1847,11 @@ void main() {
   }
   vec3 shadingNormal, base;
   float t, offset;
-  if (mesh >= 0) {
+  if (charts >= 0) {
+    gtShade(charts, chartHit, shadingNormal, base);
+    t = chartHit.t;
+    offset = gtSurfaceOffset(charts);
+  } else if (mesh >= 0) {
     pcShade(mesh, meshHit, direction, spread, shadingNormal, base);
     t = meshHit.t;
     offset = pcSurfaceOffset(mesh);
@@ -1610,7 +1867,8 @@ void main() {
     for (int c = 0; c < 3; ++c) frameWords[P.offsets.x + 3 * index + c] = floatBitsToUint(n[c]);
   if (CR_OUT_MASK) frameWords[P.offsets.y + index] = 1u;
   if (CR_OUT_CELL)
-    frameWords[P.offsets.z + index] = floatBitsToUint(mesh >= 0 ? -1.0 : float(hit.cell - models[model].cellOffset));
+    frameWords[P.offsets.z + index] =
+        floatBitsToUint(mesh >= 0 || charts >= 0 ? -1.0 : float(hit.cell - models[model].cellOffset));
   if (!CR_OUT_COLOR) return;
   // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.
   vec3 position = eye + t * direction;
@@ -1631,14 +1889,24 @@ void main() {
       int next;
       const Hit h = traceScene(mirrorOrigin, mirrorDirection, next);
       MeshHit mh;
-      const int nextMesh = CR_POLYCUBE ? pcTraceMeshes(mirrorOrigin, mirrorDirection, h.cell >= 0 ? h.t : CR_INF, mh) : -1;
-      if (h.cell < 0 && nextMesh < 0) {
+      int nextMesh = CR_POLYCUBE ? pcTraceMeshes(mirrorOrigin, mirrorDirection, h.cell >= 0 ? h.t : CR_INF, mh) : -1;
+      ChartHit ch;
+      uint unused = 0u;
+      const int nextCharts = CR_GEOTEX ? gtTraceModels(mirrorOrigin, mirrorDirection,
+                                                       nextMesh >= 0 ? mh.t : (h.cell >= 0 ? h.t : CR_INF), ch, unused)
+                                       : -1;
+      if (nextCharts >= 0) nextMesh = -1;
+      if (h.cell < 0 && nextMesh < 0 && nextCharts < 0) {
         result += weight * P.background.rgb;
         break;
       }
       vec3 nextNormal;
       float nextT;
-      if (nextMesh >= 0) {
+      if (nextCharts >= 0) {
+        gtShade(nextCharts, ch, nextNormal, baseK);
+        nextT = ch.t;
+        offsetK = gtSurfaceOffset(nextCharts);
+      } else if (nextMesh >= 0) {
         pcShade(nextMesh, mh, mirrorDirection, spread, nextNormal, baseK);
         nextT = mh.t;
         offsetK = pcSurfaceOffset(nextMesh);

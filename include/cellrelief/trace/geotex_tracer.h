@@ -131,8 +131,8 @@ class GeoTexTracer {
 
   /// Bilinear taps around (x, y) over texel centres, clamped to the map; weights of empty taps 0.
   struct Taps {
-    std::uint64_t texel[4];
-    T weight[4];
+    std::uint64_t texel[4] = {0, 0, 0, 0};
+    T weight[4] = {0, 0, 0, 0};
     T total = 0;
   };
 

@@ -72,12 +72,16 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mContext->makeCurrent();
     releaseScene();
     gpu::checkSceneSupported(scene, "the OpenGL backend");
-    // Polycube meshes use storage binding 10; OpenGL 4.3 promises only 8 (llvmpipe and the GPU
-    // drivers have more).
-    if (!scene.polycubeMeshes.empty() && mStorageBindings <= 10)
-      throw Error(ErrorKind::Unsupported, "the OpenGL backend on " + mContext->renderer() + " has " +
-                                              std::to_string(mStorageBindings) +
-                                              " storage buffer bindings; polycube meshes need 11 (use vulkan or cpu)");
+    // Polycube meshes use storage binding 10, geometry textures 12; OpenGL 4.3 promises only 8
+    // (llvmpipe and the GPU drivers have more).
+    const auto needBindings = [&](bool present, int bindings, const char* what) {
+      if (present && mStorageBindings < bindings)
+        throw Error(ErrorKind::Unsupported, "the OpenGL backend on " + mContext->renderer() + " has " +
+                                                std::to_string(mStorageBindings) + " storage buffer bindings; " + what +
+                                                " need " + std::to_string(bindings) + " (use vulkan or cpu)");
+    };
+    needBindings(!scene.polycubeMeshes.empty(), 11, "polycube meshes");
+    needBindings(!scene.geotexModels.empty(), 13, "geometry textures");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
@@ -87,6 +91,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mBuffers[2] = storageBuffer(mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t));
     mBuffers[3] = storageBuffer(mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t));
     mBuffers[4] = storageBuffer(mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t));
+    mBuffers[5] = storageBuffer(mGpu.geotex.words.data(), mGpu.geotex.words.size() * sizeof(std::uint32_t));
     mTextures[0] = atlasTexture(mGpu.distances, GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[1] = atlasTexture(mGpu.normalsOct, GL_RG16UI, GL_RG_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[2] = atlasTexture(mGpu.normalsRgba, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
@@ -126,6 +131,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, mParamsBuffer);
     for (int i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(1 + i), mBuffers[i]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, mBuffers[4]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, mBuffers[5]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, mFrameBuffer);
     for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
     glBindTextureUnit(11, mTextures[4]);
@@ -425,7 +431,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
   GLint mStorageBindings = 0;  ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
-  GLuint mBuffers[5] = {0, 0, 0, 0, 0};   ///< models, cells, hash, pyramid, polycube meshes
+  GLuint mBuffers[6] = {0, 0, 0, 0, 0, 0};  ///< models, cells, hash, pyramid, polycube meshes, geometry textures
   GLuint mTextures[5] = {0, 0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
   GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;

@@ -165,25 +165,19 @@ inline FrameParams frameParams(const render::Scene& scene, const render::Camera&
   return p;
 }
 
-/// A scene the GPU backends can shade: at most kMaxLights lights (the uniform block's array), and
-/// only the representations their shader traces.
+/// A scene the GPU backends can shade: at most kMaxLights lights (the uniform block's array).
 inline void checkSceneSupported(const render::Scene& scene, const char* backend) {
   if (scene.lights.size() > std::size_t(kMaxLights))
     throw Error(ErrorKind::InvalidArgument, std::string(backend) + " shades at most " + std::to_string(kMaxLights) +
                                                 " lights; the scene has " + std::to_string(scene.lights.size()));
-  // Refused rather than drawn without them: a picture that silently lacks part of the scene
-  // would pass for a rendering of it.
-  if (!scene.geotexModels.empty())
-    throw Error(ErrorKind::Unsupported, std::string(backend) +
-                                            " does not render geometry textures yet; the cpu backend does");
 }
 
 /// Whether the rasterized entry (rays started where the cells' cover is drawn) sees everything
 /// the compute entry does: when the eye lies outside every model's grid (with a margin), every
 /// ray enters the grids from outside, where the rasterized cells show it. A scene with polycube
-/// meshes always takes the compute entry (the cells' cover would hide the meshes).
+/// meshes or geometry textures always takes the compute entry (the cells' cover would hide them).
 inline bool rasterizedEntryServes(const render::Scene& scene, const render::Camera& camera) {
-  if (!scene.polycubeMeshes.empty()) return false;
+  if (!scene.polycubeMeshes.empty() || !scene.geotexModels.empty()) return false;
   const Aabbd bounds = scene.boundsWS();
   const Vec3d margin(0.01 * bounds.diagonal());
   return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "cellrelief/core/error.h"
+#include "cellrelief/gpu/geotex_layout.h"
 #include "cellrelief/gpu/polycube_layout.h"
 #include "cellrelief/relief/relief_model.h"
 #include "cellrelief/render/scene.h"
@@ -101,6 +102,7 @@ struct SceneFeatures {
   bool octahedralNormals = false, rgbaNormals = false, colors = false;
   bool pyramid = false;  ///< a pyramid is uploaded (skipping on, cells other than interior ones present)
   bool polycube = false;  ///< polycube-mapped meshes (polycube_layout.h)
+  bool geotex = false;    ///< geometry-texture models (geotex_layout.h)
 };
 
 /// A 2D array texture's texels, tightly packed [layer][row][column][channel].
@@ -122,6 +124,7 @@ struct GpuScene {
   Atlas<std::uint8_t> normalsRgba;        ///< RGBA8UI normals
   Atlas<std::uint8_t> colors;             ///< RGBA8UI colors
   PolycubeGpu polycube;                   ///< polycube-mapped meshes and their T2s
+  GeoTexGpu geotex;                       ///< geometry-texture models
   SceneFeatures features;
 
   /// Frees the atlases' texels once they are on the device; the layout (models, features) stays.
@@ -136,7 +139,8 @@ struct GpuScene {
   std::size_t bytes() const {
     return models.size() * sizeof(ModelInfo) + cells.size() * sizeof(relief::CellRecord) +
            hashSlots.size() * sizeof(std::uint32_t) + pyramid.size() * sizeof(std::uint16_t) +
-           distances.bytes() + normalsOct.bytes() + normalsRgba.bytes() + colors.bytes() + polycube.bytes();
+           distances.bytes() + normalsOct.bytes() + normalsRgba.bytes() + colors.bytes() + polycube.bytes() +
+           geotex.bytes();
   }
 };
 
@@ -340,6 +344,8 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
   checkBuffer(out.pyramid.size() * sizeof(std::uint16_t), "empty-space pyramid");
   out.polycube = packPolycubeMeshes(scene, limits.maxTextureSize, limits.maxStorageBytes);
   out.features.polycube = !out.polycube.empty();
+  out.geotex = packGeoTexModels(scene, limits.maxStorageBytes);
+  out.features.geotex = !out.geotex.empty();
   if (limits.maxTotalBytes > 0 && out.bytes() > limits.maxTotalBytes)
     throw Error(ErrorKind::ResourceLimit, "the scene needs " + detail::mib(out.bytes()) +
                                               " on the device, beyond its " + detail::mib(limits.maxTotalBytes));

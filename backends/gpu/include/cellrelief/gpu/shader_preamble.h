@@ -30,6 +30,7 @@ struct ShaderVariant {
   bool octahedralNormals = true, rgbaNormals = true, colors = true;
   bool skip = true, skipCentral = true, shadows = true, reflections = true;
   bool polycube = true;  ///< polycube-mapped meshes
+  bool geotex = true;    ///< geometry-texture models
   unsigned channels = render::kAllChannels;
   bool gather = true;  ///< read the 2 x 2 samples with one textureGather (measured: 12% faster on llvmpipe, same image) instead of 4 fetches
 
@@ -51,6 +52,7 @@ struct ShaderVariant {
     v.shadows = shadows && (channels & render::kColor);
     v.reflections = reflections && (channels & render::kColor);
     v.polycube = f.polycube;
+    v.geotex = f.geotex;
     return v;
   }
   bool operator==(const ShaderVariant&) const = default;
@@ -69,6 +71,7 @@ struct ShaderVariant {
     if (shadows) s += ":shadows";
     if (reflections) s += ":mirror";
     if (polycube) s += ":polycube";
+    if (geotex) s += ":geotex";
     if (gather) s += ":gather";
     return s;
   }
@@ -154,6 +157,34 @@ inline std::string traversalConstants() {
     s += define("CR_PC_MIN_FOOTPRINT_COSINE", glslFloat(c::kMinFootprintCosine));
     s += define("CR_PC_LOCATE_TOLERANCE", glslFloat(c::kLocateTolerance));
   }
+  {
+    namespace w = geotex_words;
+    const trace::GeoTexTraceOptions search;
+    s += define("CR_GT_MODEL_INFO_WORDS", w::kModelInfoWords);
+    s += define("CR_GT_CHART_WORDS", w::kChartWords);
+    s += define("CR_GT_NODE_WORDS", w::kNodeWords);
+    s += define("CR_GT_CHART_OFFSET", w::kChartOffset);
+    s += define("CR_GT_NODE_OFFSET", w::kNodeOffset);
+    s += define("CR_GT_PRIMITIVE_OFFSET", w::kPrimitiveOffset);
+    s += define("CR_GT_HEIGHT_OFFSET", w::kHeightOffset);
+    s += define("CR_GT_NORMAL_OFFSET", w::kNormalOffset);
+    s += define("CR_GT_COLOR_OFFSET", w::kColorOffset);
+    s += define("CR_GT_EMPTY_CODE", w::kEmptyCode);
+    s += define("CR_GT_SURFACE_OFFSET", w::kSurfaceOffset);
+    s += define("CR_GT_ORIGIN", w::kOrigin);
+    s += define("CR_GT_ROW_X", w::kRowX);
+    s += define("CR_GT_ROW_Y", w::kRowY);
+    s += define("CR_GT_ROW_Z", w::kRowZ);
+    s += define("CR_GT_BOX_SIZE", w::kBoxSize);
+    s += define("CR_GT_HEIGHT_SCALE", w::kHeightScale);
+    s += define("CR_GT_WIDTH", w::kWidth);
+    s += define("CR_GT_HEIGHT", w::kHeight);
+    s += define("CR_GT_FIRST_TEXEL", w::kFirstTexel);
+    s += define("CR_GT_STEPS_PER_TEXEL", glslFloat(search.linearStepsPerTexel));
+    s += define("CR_GT_MIN_LINEAR_STEPS", search.minLinearSteps);
+    s += define("CR_GT_BINARY_STEPS", search.binarySteps);
+    s += define("CR_GT_NEUTRAL_GREY", glslFloat(trace::GeoTexTracer<float>::kNeutralGrey));
+  }
   return s;
 }
 
@@ -163,7 +194,7 @@ inline constexpr const char* kVariantSwitchNames[] = {
     "CR_PARALLEL",    "CR_PLANAR",       "CR_PERSPECTIVE", "CR_AXIAL",    "CR_OCT_NORMALS",
     "CR_RGBA_NORMALS", "CR_COLORS",      "CR_SKIP",        "CR_SHADOWS",  "CR_REFLECTIONS",
     "CR_GATHER",      "CR_OUT_COLOR",    "CR_OUT_DEPTH",   "CR_OUT_NORMAL", "CR_OUT_MASK",
-    "CR_OUT_CELL",    "CR_OUT_STEPS",    "CR_SKIP_CENTRAL", "CR_POLYCUBE"};
+    "CR_OUT_CELL",    "CR_OUT_STEPS",    "CR_SKIP_CENTRAL", "CR_POLYCUBE",  "CR_GEOTEX"};
 inline constexpr int kVariantSwitchCount = int(std::size(kVariantSwitchNames));
 
 /// The value of each switch of kVariantSwitchNames for a variant.
@@ -186,7 +217,8 @@ inline std::array<bool, kVariantSwitchCount> variantSwitches(const ShaderVariant
           (v.channels & render::kCell) != 0,
           (v.channels & render::kSteps) != 0,
           v.skipCentral && (v.perspective || v.axial),
-          v.polycube};
+          v.polycube,
+          v.geotex};
 }
 
 /// The variant's switches as GLSL constants (OpenGL): `const bool CR_SKIP = false;`.
