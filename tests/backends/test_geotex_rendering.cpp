@@ -83,41 +83,14 @@ TEST(GeoTexRendering, GpuBackendsAgreeWithTheCpuReferencePerPixel) {
   options.width = 200;
   options.height = 140;
   const Aabbd bounds = scene.boundsWS();
-  const double spacing = 1e-3 * bounds.diagonal();
   const Camera cameras[2] = {Camera::framing(bounds.center(), 0.3 * bounds.diagonal(), 25, 30),
                              Camera::framing(bounds.center(), 0.3 * bounds.diagonal(), 200, 15)};
-  cpu::CpuBackend cpu;
-  cpu.upload(scene);
-  int compared = 0;
-  for (BackendKind kind : {BackendKind::OpenGL, BackendKind::Vulkan}) {
-    const Availability available = backends::isAvailable(kind);
-    if (!available) {
-      if (test::inCI()) ADD_FAILURE() << backendName(kind) << " must run under CI: " << available.reason;
-      continue;
-    }
-    std::unique_ptr<Backend> gpu = backends::createBackend(kind);
-    gpu->upload(scene);
-    for (int v = 0; v < 2; ++v) {
-      const Frame expected = cpu.renderFrame(cameras[v], options);
-      const Frame actual = gpu->renderFrame(cameras[v], options);
-      const FrameAgreement a = compareFrames(expected, actual, spacing);
-      ++compared;
-      const std::string what = "sphere and terrain, view " + std::to_string(v) + " on " + std::string(backendName(kind));
-      std::printf("%s: %zu hits, mask %zu px, depth median %.2e p95 %.2e max %.2e (of 1e-3 diagonals), normal median "
-                  "%.4f p95 %.4f deg, colour mean %.3f p99 %.0f\n",
-                  what.c_str(), a.bothHit, a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees,
-                  a.p95Degrees, a.meanColor, a.p99Color);
-      EXPECT_GT(a.bothHit, 4000u) << what;
-      EXPECT_LE(a.maskFraction, kMaskBound) << what;
-      EXPECT_LE(a.p95Texels, kDepthBound) << what;
-      EXPECT_LE(a.p95Degrees, kNormalBound) << what;
-      EXPECT_LE(a.meanColor, kMeanColourBound) << what;
-      EXPECT_LE(a.p99Color, kP99ColourBound) << what;
-      if (a.maskFraction > kMaskBound || a.meanColor > kMeanColourBound || a.p99Color > kP99ColourBound)
-        test::writeFailureImages(expected, actual, spacing, "geotex_view" + std::to_string(v) + "_" + std::string(backendName(kind)));
-    }
-  }
-  if (compared == 0 && !test::inCI()) GTEST_SKIP() << "no GPU backend runs here";
+  const test::AgreementBounds agreement{.minHits = 4000, .mask = kMaskBound, .depthP95 = kDepthBound,
+                                        .normalP95 = kNormalBound, .meanColour = kMeanColourBound,
+                                        .p99Colour = kP99ColourBound};
+  if (test::expectGpuBackendsAgree(scene, cameras, options, 1e-3 * bounds.diagonal(), agreement, "geotex") == 0 &&
+      !test::inCI())
+    GTEST_SKIP() << "no GPU backend runs here";
 }
 
 }  // namespace

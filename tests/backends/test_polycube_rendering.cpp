@@ -199,43 +199,14 @@ TEST(PolycubeRendering, GpuBackendsAgreeWithTheCpuReferencePerPixel) {
   options.width = 240;
   options.height = 160;
   const Aabbd bounds = scene.boundsWS();
-  const double spacing = 1e-3 * bounds.diagonal();
   const Camera cameras[2] = {Camera::framing(bounds.center(), 0.3 * bounds.diagonal(), 20, 25),
                              Camera::framing(bounds.center(), 0.35 * bounds.diagonal(), 160, -20)};
-  cpu::CpuBackend cpu;
-  cpu.upload(scene);
-  int compared = 0;
-  for (BackendKind kind : {BackendKind::OpenGL, BackendKind::Vulkan}) {
-    const Availability available = backends::isAvailable(kind);
-    if (!available) {
-      if (test::inCI()) ADD_FAILURE() << backendName(kind) << " must run under CI: " << available.reason;
-      continue;
-    }
-    std::unique_ptr<Backend> gpu = backends::createBackend(kind);
-    gpu->upload(scene);
-    for (int v = 0; v < 2; ++v) {
-      const Frame expected = cpu.renderFrame(cameras[v], options);
-      const Frame actual = gpu->renderFrame(cameras[v], options);
-      const FrameAgreement a = compareFrames(expected, actual, spacing);
-      ++compared;
-      const std::string what = "three boxes, view " + std::to_string(v) + " on " + std::string(backendName(kind));
-      std::printf("%s: %zu hits, mask %zu px, depth median %.2e p95 %.2e max %.2e (of 1e-3 diagonals), normal median "
-                  "%.4f p95 %.4f deg, colour mean %.3f p99 %.0f, cells differ %.2e\n",
-                  what.c_str(), a.bothHit, a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees,
-                  a.p95Degrees, a.meanColor, a.p99Color, a.cellFraction);
-      EXPECT_GT(a.bothHit, 5000u) << what;
-      EXPECT_LE(a.maskFraction, kMaskBound) << what;
-      EXPECT_LE(a.p95Texels, kDepthBound) << what;
-      EXPECT_LE(a.p95Degrees, kNormalBound) << what;
-      EXPECT_LE(a.meanColor, kMeanColourBound) << what;
-      EXPECT_LE(a.p99Color, kP99ColourBound) << what;
-      EXPECT_EQ(a.cellFraction, 0.0) << what;
-      if (a.maskFraction > kMaskBound || a.meanColor > kMeanColourBound || a.p99Color > kP99ColourBound) {
-        test::writeFailureImages(expected, actual, spacing, "polycube_view" + std::to_string(v) + "_" + std::string(backendName(kind)));
-      }
-    }
-  }
-  if (compared == 0 && !test::inCI()) GTEST_SKIP() << "no GPU backend runs here";
+  const test::AgreementBounds agreement{.minHits = 5000, .mask = kMaskBound, .depthP95 = kDepthBound,
+                                        .normalP95 = kNormalBound, .meanColour = kMeanColourBound,
+                                        .p99Colour = kP99ColourBound, .sameCells = true};
+  if (test::expectGpuBackendsAgree(scene, cameras, options, 1e-3 * bounds.diagonal(), agreement, "polycube") == 0 &&
+      !test::inCI())
+    GTEST_SKIP() << "no GPU backend runs here";
 }
 
 }  // namespace
