@@ -49,8 +49,7 @@ Image<std::uint8_t> sideBySide(const std::vector<Rendered>& runs) {
 
 int runCompareBackends(const CompareBackendsCli& o) {
   const auto [width, height] = parseImageSize(o.size);
-  const auto model = loadOrConvert(o.input);
-  const render::Scene scene = render::Scene::of(model);
+  const render::Scene scene = loadScene(o.input);
   const render::Camera camera = parseCamera(o.camera, scene.boundsWS());
   render::RenderOptions options;
   options.width = width;
@@ -79,7 +78,11 @@ int runCompareBackends(const CompareBackendsCli& o) {
     r.bytes = backend->sceneBytes();
     runs.push_back(std::move(r));
   }
-  const double spacing = model->cellSizeWS / double(std::max(1, model->texels - 1));
+  // Depth errors in sample spacings of the relief model, or in thousandths of the scene's
+  // diagonal for geometry textures and polycube meshes.
+  const double spacing = scene.models.empty()
+                             ? 1e-3 * scene.boundsWS().diagonal()
+                             : scene.models[0]->cellSizeWS / double(std::max(1, scene.models[0]->texels - 1));
   const double rays = double(width) * double(height);
   std::printf("\n%-8s %9s %9s %9s %11s %10s %10s %9s %9s %9s  %s\n", "backend", "time s", "Mrays/s", "vs cpu",
               "scene", "mask", "depth med", "depth p95", "normal", "color", "device");
@@ -114,7 +117,10 @@ Command addCompareBackendsCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("compare-backends",
                                  "Render one scene on every backend that runs here and compare them with the CPU reference");
   auto o = std::make_shared<CompareBackendsCli>();
-  cmd->add_option("model", o->input, "Relief model (.crm) or mesh (.obj .ply .off .stl)")->required();
+  cmd->add_option("model", o->input,
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder written by "
+                  "`cellrelief polycube`")
+      ->required();
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);

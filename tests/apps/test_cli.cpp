@@ -187,6 +187,15 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
 // (three crossing coordinate planes): a model whose error is measured and finite. A "mesh" whose
 // triangles have no area at all is refused: a clear error naming the file, exit 1 and no model,
 // never an empty model reported with "rms inf%".
+// Under AddressSanitizer, runs that load the GPU drivers do not check for leaks: Mesa's llvmpipe
+// and lavapipe leak 112 bytes in a module they unload at exit, which LeakSanitizer can neither name
+// nor suppress. Every other check of the sanitizers stays on.
+#if defined(__SANITIZE_ADDRESS__)
+const std::string kDrivers = "ASAN_OPTIONS=detect_leaks=0 ";
+#else
+const std::string kDrivers;
+#endif
+
 TEST(Cli, GeotexConvertsMeshesAndHeightMapsAndRendersThem) {
   const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
   const auto dem = test::dataDir() / "heightmaps/pom_dxsdk/rocks_NM_height.tga";
@@ -213,6 +222,11 @@ TEST(Cli, GeotexConvertsMeshesAndHeightMapsAndRendersThem) {
       for (int x = 0; x < picture.width(); ++x) covered += picture.at(x, y, 0) != 255 || picture.at(x, y, 1) != 255;
     EXPECT_GT(covered, 64 * 48 / 20) << model;
   }
+  // Every backend that runs here on the charts, against the CPU reference.
+  const Result compare = run("compare-backends " + (dir / "spot.cgt").string() + " --size 48x32 -o " +
+                             (dir / "compare").string(), kDrivers);
+  ASSERT_EQ(compare.status, 0) << compare.output;
+  EXPECT_TRUE(test::hasWords(compare.output, "side_by_side.png")) << compare.output;
   test::writeBytes(dir / "line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
   const std::pair<std::string, std::string> cases[] = {
       {"geotex " + spot.string() + " -o " + (dir / "x.crm").string(), "must end in .cgt"},
@@ -361,14 +375,6 @@ int differingPixels(const std::filesystem::path& a, const std::filesystem::path&
   return count;
 }
 
-// Under AddressSanitizer, runs that load the GPU drivers do not check for leaks: Mesa's llvmpipe
-// and lavapipe leak 112 bytes in a module they unload at exit, which LeakSanitizer can neither name
-// nor suppress. Every other check of the sanitizers stays on.
-#if defined(__SANITIZE_ADDRESS__)
-const std::string kDrivers = "ASAN_OPTIONS=detect_leaks=0 ";
-#else
-const std::string kDrivers;
-#endif
 
 TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
   const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";

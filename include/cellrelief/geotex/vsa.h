@@ -388,6 +388,22 @@ inline LloydState hierarchicalSeeds(const TriangleMesh& mesh, const FaceGraph& g
 
 }  // namespace detail
 
+/// The metric's error of a partition made elsewhere (CGAL's, say), each region's proxy fitted to
+/// it as a Lloyd iteration would: partitions from two implementations scored by one measure.
+inline double partitionError(const TriangleMesh& mesh, const std::vector<std::uint32_t>& regionOfFace,
+                             VsaMetric metric) {
+  if (regionOfFace.size() != mesh.triangles.size())
+    throw Error(ErrorKind::InvalidArgument, "partitionError: one region per triangle is needed");
+  const FaceGraph g = buildFaceGraph(mesh);
+  const std::uint32_t regions = regionOfFace.empty() ? 0 : *std::max_element(regionOfFace.begin(), regionOfFace.end()) + 1;
+  detail::LloydState s;
+  s.regionOfFace = regionOfFace;
+  s.proxies.resize(regions);
+  detail::fitProxies(mesh, g, metric, s.regionOfFace, s.proxies);
+  detail::evaluate(mesh, g, metric, s);
+  return s.error;
+}
+
 /// Partitions the mesh into options.proxies regions (at least one per connected component).
 /// Throws Error(InvalidInput) for a mesh without triangles or of zero area.
 inline VsaPartition partitionVsa(const TriangleMesh& mesh, const VsaOptions& options = {}) {
