@@ -12,7 +12,7 @@ cd "$root"
 runs="${1:-1000000}"
 shift || true
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(obj ply_ascii ply_binary off stl_ascii stl_binary png jpeg tga bmp crm polycube)
+[[ ${#targets[@]} -gt 0 ]] || targets=(obj ply_ascii ply_binary off stl_ascii stl_binary png jpeg tga bmp crm polycube polycube_map geotex)
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$(nproc)"
 # A smaller quarantine: recycling the default 256 MB one stalls single inputs past the 1 s limit.

@@ -1456,6 +1456,8 @@ float gtTaps(Chart ch, vec2 p, out uint texels[4], out float weights[4]) {
     texels[k] = 0u;
     weights[k] = 0.0;
   }
+  const float far = float(1 << 30);
+  if (!(p.x > -far && p.x < far && p.y > -far && p.y < far)) return 0.0;
   const int ni = clamp(int(floor(p.x)), 0, ch.width - 1), nj = clamp(int(floor(p.y)), 0, ch.height - 1);
   if (gtCode(ch, ch.firstTexel + uint(nj * ch.width + ni)) == ch.emptyCode) return 0.0;
   const vec2 f = p - 0.5;
@@ -1532,9 +1534,10 @@ bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout Cha
     t1 = min(t1, tFar);
     if (t0 > t1) return false;
   }
-  const float texelsCrossed = length(d.xy) * (t1 - t0);
-  const int steps = clamp(int(ceil(texelsCrossed * CR_GT_STEPS_PER_TEXEL)), CR_GT_MIN_LINEAR_STEPS,
-                          4 * (ch.width + ch.height) + CR_GT_MIN_LINEAR_STEPS);
+  // GeoTexTracer::linearSteps
+  const float wanted = length(d.xy) * (t1 - t0) * CR_GT_STEPS_PER_TEXEL;
+  const int most = 4 * (ch.width + ch.height) + CR_GT_MIN_LINEAR_STEPS;
+  const int steps = wanted < float(most) ? max(CR_GT_MIN_LINEAR_STEPS, int(ceil(wanted))) : most;
   const float dt = (t1 - t0) / float(steps);
   float tBefore = t0;
   float gapBefore = gtGap(ch, o, d, t0, samples);

@@ -74,6 +74,10 @@ struct ChartBox {
   }
 };
 
+/// The range of coordinates and sizes a model may hold: single precision keeps them apart from
+/// zero and infinity, with room for the products a tracer forms.
+inline constexpr double kMaxCoordinate = 1e30, kMinSize = 1e-30;
+
 struct GeoTexModel {
   std::vector<ChartBox> charts;
   HeightCodec heightCodec;
@@ -122,9 +126,14 @@ inline void GeoTexModel::validate(const std::string& source) const {
     if (c.firstTexel != next) fail(chart + "its texels do not follow the previous chart's");
     next += c.texelCount();
     if (next > heights.size()) fail(chart + "its texels run past the end of the maps");
-    if (!isFinite(c.originWS) || !isFinite(c.sizeWS) || !(c.sizeWS.x > 0) || !(c.sizeWS.y > 0) ||
-        !(c.sizeWS.z > 0))
-      fail(chart + "the box's corner or size is not finite and positive");
+    // Tracers and GPUs work in single precision: every value must keep its meaning there.
+    const auto inFloatRange = [](double v) { return std::abs(v) <= kMaxCoordinate; };
+    const auto sizeOk = [](double v) { return v >= kMinSize && v <= kMaxCoordinate; };
+    if (!inFloatRange(c.originWS.x) || !inFloatRange(c.originWS.y) || !inFloatRange(c.originWS.z))
+      fail(chart + "the box's corner is not a number within +-1e30");
+    if (!sizeOk(c.sizeWS.x / c.width) || !sizeOk(c.sizeWS.y / c.height) || !sizeOk(c.sizeWS.z) ||
+        !sizeOk(c.sizeWS.x) || !sizeOk(c.sizeWS.y))
+      fail(chart + "the box's size or texel size is outside 1e-30 to 1e30");
     for (int a = 0; a < 3; ++a) {
       if (!isFinite(c.axisWS[a]) || std::abs(glm::length(c.axisWS[a]) - 1) > 1e-6)
         fail(chart + "axis " + std::to_string(a) + " is not of unit length");

@@ -138,6 +138,9 @@ class GeoTexTracer {
 
   Taps taps(const Chart& c, T x, T y) const {
     Taps t;
+    // Far outside the map (or not a number): no surface, and no integer conversion of it.
+    constexpr T kFar = T(1 << 30);
+    if (!(x > -kFar && x < kFar && y > -kFar && y < kFar)) return t;
     const int ni = std::clamp(int(std::floor(x)), 0, c.width - 1), nj = std::clamp(int(std::floor(y)), 0, c.height - 1);
     if (mModel->heights[c.firstTexel + std::uint64_t(nj) * c.width + ni] == mModel->heightCodec.emptyCode())
       return t;  // no surface under this point
@@ -152,6 +155,15 @@ class GeoTexTracer {
       t.total += t.weight[k];
     }
     return t;
+  }
+
+  /// Linear steps for a ray crossing this many texels: one per texel at the default density,
+  /// within [minLinearSteps, 4 (width + height) + minLinearSteps]; the most when the count is not
+  /// a number (a ray along a box face of a degenerate chart).
+  int linearSteps(const Chart& c, T texelsCrossed) const {
+    const int most = 4 * (c.width + c.height) + mOptions.minLinearSteps;
+    const T wanted = texelsCrossed * T(mOptions.linearStepsPerTexel);
+    return wanted < T(most) ? std::max(mOptions.minLinearSteps, int(std::ceil(wanted))) : most;
   }
 
   T height(const Chart& c, T x, T y) const {
@@ -189,8 +201,7 @@ class GeoTexTracer {
     if (!span.hit) return false;
     if (stats) ++stats->boxes;
     const T texelsCrossed = std::hypot(d.x, d.y) * (span.t1 - span.t0);
-    const int steps = std::clamp(int(std::ceil(texelsCrossed * T(mOptions.linearStepsPerTexel))),
-                                 mOptions.minLinearSteps, 4 * (c.width + c.height) + mOptions.minLinearSteps);
+    const int steps = linearSteps(c, texelsCrossed);
     const T dt = (span.t1 - span.t0) / T(steps);
     // gap = ray z - surface height: +infinity over an empty texel (no surface), positive above
     // the surface, not positive below it.
