@@ -210,80 +210,98 @@ inline void appendMaps(const ChartMaps& maps, ChartBox& box, GeoTexModel& model)
 
 }  // namespace detail
 
-/// Converts a mesh. Throws Error(InvalidInput) for bad options or a mesh VSA refuses.
-inline GeoTexConversion convertMesh(const TriangleMesh& mesh, const GeoTexOptions& options = {}) {
+namespace detail {
+
+inline void checkOptions(const GeoTexOptions& options) {
   auto refuse = [](const std::string& problem) { throw Error(ErrorKind::InvalidInput, "geometry textures", problem); };
   if (!HeightCodec::supports(options.heightBits)) refuse("height bits must be 8 or 16");
   if (options.maxTexels < 2 || options.maxTexels > 4096 || !std::has_single_bit(unsigned(options.maxTexels)))
     refuse("the largest map side must be a power of two from 2 to 4096");
   if (options.minTexels < 1 || options.minTexels > options.maxTexels)
     refuse("the smallest map side must be from 1 to the largest");
+}
+
+/// The texel size of the model: the largest chart's extent over the largest map side.
+inline double modelTexelSize(const std::vector<ChartFrame>& frames, const GeoTexOptions& options) {
+  double largest = 0;
+  for (const ChartFrame& f : frames) largest = std::max({largest, f.maximum.x - f.minimum.x, f.maximum.y - f.minimum.y});
+  if (!(largest > 0))
+    throw Error(ErrorKind::InvalidInput, "geometry textures", "every chart is a point or a line: the mesh has no extent");
+  return largest / options.maxTexels;
+}
+
+/// The chart's box: its frame's bounds, at least a texel wide, with half a texel of room below and
+/// above so that a flat chart still has a volume to search; and its map size.
+inline ChartBox chartBox(const ChartFrame& f, double texelSize, const GeoTexOptions& options) {
+  ChartBox box;
+  Vec3d lo = f.minimum, hi = f.maximum;
+  for (int a = 0; a < 2; ++a)  // a chart thinner than a texel gets one texel, centred
+    if (hi[a] - lo[a] < texelSize) {
+      const double mid = 0.5 * (lo[a] + hi[a]);
+      lo[a] = mid - 0.5 * texelSize;
+      hi[a] = mid + 0.5 * texelSize;
+    }
+  lo.z -= 0.5 * texelSize;
+  hi.z += 0.5 * texelSize;
+  for (int a = 0; a < 3; ++a) box.axisWS[a] = f.axis[a];
+  box.originWS = lo.x * f.axis[0] + lo.y * f.axis[1] + lo.z * f.axis[2];
+  box.sizeWS = hi - lo;
+  box.width = std::uint32_t(mapSide(box.sizeWS.x, texelSize, options));
+  box.height = std::uint32_t(mapSide(box.sizeWS.y, texelSize, options));
+  return box;
+}
+
+/// Faces, folds and empty texels of one chart.
+inline ChartReport chartReport(const TriangleMesh& mesh, const ChartFaces& faces, const ChartBox& box,
+                               const ChartMaps& maps) {
+  ChartReport report;
+  report.ownFaces = faces.ownCount;
+  report.ringFaces = faces.faces.size() - faces.ownCount;
+  for (std::size_t i = 0; i < faces.ownCount; ++i) {
+    const Vec3u& t = mesh.triangles[faces.faces[i]];
+    const Vec3d n = glm::cross(Vec3d(mesh.positions[t[1]]) - Vec3d(mesh.positions[t[0]]),
+                               Vec3d(mesh.positions[t[2]]) - Vec3d(mesh.positions[t[0]]));
+    const double area = 0.5 * glm::length(n);
+    report.ownArea += area;
+    if (area > 0 && glm::dot(n, box.axisWS[2]) <= 0) {
+      ++report.foldedFaces;
+      report.foldedArea += area;
+    }
+  }
+  for (std::size_t t = 0; t < maps.heights.size(); ++t) report.emptyTexels += maps.empty(t);
+  return report;
+}
+
+}  // namespace detail
+
+/// Converts a mesh. Throws Error(InvalidInput) for bad options or a mesh VSA refuses.
+inline GeoTexConversion convertMesh(const TriangleMesh& mesh, const GeoTexOptions& options = {}) {
+  detail::checkOptions(options);
   GeoTexConversion result;
   result.partition = partitionVsa(mesh, options.vsa);
   const std::vector<ChartFaces> faces = chartFaces(mesh, result.partition, options.rings);
   const std::size_t charts = faces.size();
-
-  // Frames first: the texel size follows the largest chart.
   std::vector<ChartFrame> frames(charts);
   parallelFor(0, charts, [&](std::size_t c) {
     const std::span<const std::uint32_t> own(faces[c].faces.data(), faces[c].ownCount);
     frames[c] = chartFrame(mesh, faces[c].faces, medianNormal(mesh, own, result.partition.proxies[c].normal));
   }, 1);
-  double largest = 0;
-  for (const ChartFrame& f : frames)
-    largest = std::max({largest, f.maximum.x - f.minimum.x, f.maximum.y - f.minimum.y});
-  if (!(largest > 0)) refuse("every chart is a point or a line: the mesh has no extent");
-  const double texelSize = largest / options.maxTexels;
-
+  const double texelSize = detail::modelTexelSize(frames, options);
   const std::vector<Vec3f> vertexNormals = mesh.hasNormals() ? mesh.normals : computeVertexNormals(mesh);
   const bool colors = options.colors && mesh.hasColors();
   std::vector<ChartBox> boxes(charts);
   std::vector<ChartMaps> maps(charts);
   result.charts.resize(charts);
   parallelFor(0, charts, [&](std::size_t c) {
-    const ChartFrame& f = frames[c];
-    ChartBox& box = boxes[c];
-    // Half a texel of room below and above, so that a flat chart still has a volume to search.
-    const double pad = 0.5 * texelSize;
-    Vec3d lo = f.minimum, hi = f.maximum;
-    for (int a = 0; a < 2; ++a)  // a chart thinner than a texel gets one texel, centred
-      if (hi[a] - lo[a] < texelSize) {
-        const double mid = 0.5 * (lo[a] + hi[a]);
-        lo[a] = mid - 0.5 * texelSize;
-        hi[a] = mid + 0.5 * texelSize;
-      }
-    lo.z -= pad;
-    hi.z += pad;
-    for (int a = 0; a < 3; ++a) box.axisWS[a] = f.axis[a];
-    box.originWS = lo.x * f.axis[0] + lo.y * f.axis[1] + lo.z * f.axis[2];
-    box.sizeWS = hi - lo;
-    box.width = std::uint32_t(detail::mapSide(box.sizeWS.x, texelSize, options));
-    box.height = std::uint32_t(detail::mapSide(box.sizeWS.y, texelSize, options));
-    maps[c] = detail::rasterizeChart(mesh, faces[c].faces, box, vertexNormals, colors);
+    boxes[c] = detail::chartBox(frames[c], texelSize, options);
+    maps[c] = detail::rasterizeChart(mesh, faces[c].faces, boxes[c], vertexNormals, colors);
     detail::smoothHeights(maps[c], options.smoothing);
     detail::dilateMaps(maps[c], options.dilation);
-
-    ChartReport& report = result.charts[c];
-    report.ownFaces = faces[c].ownCount;
-    report.ringFaces = faces[c].faces.size() - faces[c].ownCount;
-    for (std::size_t i = 0; i < faces[c].ownCount; ++i) {
-      const Vec3u& t = mesh.triangles[faces[c].faces[i]];
-      const Vec3d n = glm::cross(Vec3d(mesh.positions[t[1]]) - Vec3d(mesh.positions[t[0]]),
-                                 Vec3d(mesh.positions[t[2]]) - Vec3d(mesh.positions[t[0]]));
-      const double area = 0.5 * glm::length(n);
-      report.ownArea += area;
-      if (area > 0 && glm::dot(n, box.axisWS[2]) <= 0) {
-        ++report.foldedFaces;
-        report.foldedArea += area;
-      }
-    }
-    for (std::size_t t = 0; t < maps[c].heights.size(); ++t) report.emptyTexels += maps[c].empty(t);
+    result.charts[c] = detail::chartReport(mesh, faces[c], boxes[c], maps[c]);
   }, 1);
-
   GeoTexModel& model = result.model;
   model.heightCodec.bits = options.heightBits;
   for (std::size_t c = 0; c < charts; ++c) detail::appendMaps(maps[c], boxes[c], model);
-  if (!colors) model.colors.clear();
   model.validate();
   return result;
 }

@@ -47,6 +47,7 @@ template <Real T>
 class GeoTexTracer {
  public:
   GeoTexTracer() = default;
+  /// Reads the model's maps in place: the model must outlive the tracer.
   explicit GeoTexTracer(const geotex::GeoTexModel& model, const GeoTexTraceOptions& options = {})
       : mModel(&model), mOptions(options) {
     std::vector<Aabb<T>> boxes;
