@@ -8,6 +8,7 @@
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/cpu/cpu_backend.h>
 #include <cellrelief/embree/embree_scene.h>
+#include <cellrelief/geotex/convert.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/metrics/ray_comparison.h>
 #include <cellrelief/relief/convert.h>
@@ -164,6 +165,60 @@ double rayTorus(const Rayd& ray, double R, double r) {
     t0 = t;
   }
   return std::numeric_limits<double>::infinity();
+}
+
+// Geometry textures (200 charts, maps up to 64 texels) rendered by the CPU backend against Embree
+// on the original mesh: hit or miss, depth in chart texels, misses away from silhouettes. Closed
+// meshes only: through an open mesh's holes Embree hits its inner side, which a one-sided height
+// field does not have (the bunny seen from below: 186 such rays of 40,000); geotex_tests measures
+// the bunny against its own BVH with those rays set apart. Measured: disagreement 5e-4 to 2.2e-3,
+// depth median 0.015-0.018 and p95 0.15-0.26 texels, at most 5 misses away from silhouettes;
+// normals 3-6 degrees from Embree's (its normal is the face's, ours the interpolated vertex normal).
+TEST(GeoTexVsEmbree, ChartsAgreeWithEmbreeOnTheOriginalMesh) {
+  struct Case {
+    const char* name;
+    const char* path;
+  };
+  for (const Case& c : {Case{"armadillo", "meshes/medium/armadillo__libigl-tutorial-data.obj"},
+                        Case{"fertility", "meshes/small/fertility_9k__libigl-tutorial-data.off"}}) {
+    const std::filesystem::path path = test::dataDir() / c.path;
+    CELLRELIEF_REQUIRE_FILE(path);
+    const TriangleMesh mesh = io::readMesh(path);
+    geotex::GeoTexOptions o;
+    o.vsa.proxies = 200;
+    o.maxTexels = 64;
+    render::Scene scene;
+    scene.geotexModels.push_back(std::make_shared<geotex::GeoTexModel>(geotex::convertMesh(mesh, o).model));
+    const EmbreeScene reference(mesh);
+    cpu::CpuBackend backend;
+    backend.upload(scene);
+    const Aabbd bounds = Aabbd(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
+    const double diagonal = bounds.diagonal();
+    double texel = 0;  // the coarsest chart's texel
+    for (const geotex::ChartBox& b : scene.geotexModels[0]->charts)
+      texel = std::max({texel, b.texelSizeWS().x, b.texelSizeWS().y});
+    render::RenderOptions options;
+    options.width = options.height = 200;
+    options.channels = render::kDepth | render::kNormal | render::kMask;
+    for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
+      const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * diagonal, yaw, pitch);
+      const render::Frame ours = backend.renderFrame(camera, options);
+      const render::Frame truth = reference.renderReference(camera, options.width, options.height);
+      const metrics::RayComparison r =
+          metrics::compareRays(truth.depth, truth.mask, truth.normal, ours.depth, ours.mask, ours.normal);
+      const std::size_t interior = interiorDisagreements(truth, ours);
+      std::printf("%-10s view %3.0f/%3.0f: %zu rays, %zu disagree (%zu only Embree, %zu only ours, %.2e; %zu away "
+                  "from silhouettes); depth median %.3f p95 %.3f texels; normals median %.1f degrees\n",
+                  c.name, yaw, pitch, r.rays, r.disagreements(), r.onlyReference, r.onlyTest, r.disagreementRate(),
+                  interior, r.depthError.median / texel, r.depthError.p95 / texel, r.normalErrorDegrees.median);
+      EXPECT_GT(r.bothHit, r.rays / 10) << c.name;
+      EXPECT_LE(r.disagreementRate(), 3e-3) << c.name;
+      EXPECT_LE(r.depthError.median / texel, 0.05) << c.name;
+      EXPECT_LE(r.depthError.p95 / texel, 0.5) << c.name;
+      EXPECT_LE(r.normalErrorDegrees.median, 8.0) << c.name;
+      EXPECT_LE(interior, 10u) << c.name;
+    }
+  }
 }
 
 TEST(TraceVsAnalytic, TorusDepthMatchesTheExactIntersectionLikeEmbreesDoes) {
