@@ -75,6 +75,27 @@ std::size_t interiorDisagreements(const render::Frame& truth, const render::Fram
   return count;
 }
 
+/// One view of a representation on the CPU backend beside Embree's reference frame of the mesh.
+struct ViewAgreement {
+  render::Frame ours, truth;
+  metrics::RayComparison rays;
+  std::size_t interior = 0;  ///< disagreements away from silhouettes
+};
+
+ViewAgreement compareView(cpu::CpuBackend& backend, const EmbreeScene& reference, const Aabbd& bounds, double yaw,
+                          double pitch) {
+  render::RenderOptions options;
+  options.width = options.height = 200;
+  options.channels = render::kDepth | render::kNormal | render::kMask;
+  const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * bounds.diagonal(), yaw, pitch);
+  ViewAgreement v;
+  v.ours = backend.renderFrame(camera, options);
+  v.truth = reference.renderReference(camera, options.width, options.height);
+  v.rays = metrics::compareRays(v.truth.depth, v.truth.mask, v.truth.normal, v.ours.depth, v.ours.mask, v.ours.normal);
+  v.interior = interiorDisagreements(v.truth, v.ours);
+  return v;
+}
+
 TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
   const MeshCase& c = GetParam();
   const std::filesystem::path path = test::dataDir() / c.path;
@@ -87,16 +108,10 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
   const Aabbd bounds = Aabbd(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
   const double diagonal = bounds.diagonal();
   const double spacing = model->cellSizeWS / (model->texels - 1);
-  render::RenderOptions options;
-  options.width = options.height = 200;
-  options.channels = render::kDepth | render::kNormal | render::kMask;
   for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
-    const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * diagonal, yaw, pitch);
-    const render::Frame ours = backend.renderFrame(camera, options);
-    const render::Frame truth = reference.renderReference(camera, options.width, options.height);
-    const metrics::RayComparison r =
-        metrics::compareRays(truth.depth, truth.mask, truth.normal, ours.depth, ours.mask, ours.normal);
-    const std::size_t interior = interiorDisagreements(truth, ours);
+    const ViewAgreement v = compareView(backend, reference, bounds, yaw, pitch);
+    const metrics::RayComparison& r = v.rays;
+    const std::size_t interior = v.interior;
     std::printf("%-10s view %3.0f/%3.0f: N = %d T = %d; %zu rays, %zu disagree (%zu only Embree, %zu "
                 "only ours, %.2e; %zu away from silhouettes); depth median %.3f p95 %.3f max %.1f texels (median %.1e, max "
                 "%.1e of the diagonal); normals median %.1f p95 %.1f degrees\n",
@@ -112,7 +127,7 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
     EXPECT_LE(interior, c.maxInterior);
     // A picture of the disagreement when the view fails, under the build tree.
     if (testing::Test::HasFailure())
-      writeDiffImage(truth, ours, spacing,
+      writeDiffImage(v.truth, v.ours, spacing,
                      std::filesystem::path(CELLRELIEF_TEST_OUTPUT_DIR) / "verify_failures" /
                          (c.name + "_" + std::to_string(int(yaw)) + ".png"));
   }
@@ -193,20 +208,13 @@ TEST(GeoTexVsEmbree, ChartsAgreeWithEmbreeOnTheOriginalMesh) {
     cpu::CpuBackend backend;
     backend.upload(scene);
     const Aabbd bounds = Aabbd(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
-    const double diagonal = bounds.diagonal();
     double texel = 0;  // the coarsest chart's texel
     for (const geotex::ChartBox& b : scene.geotexModels[0]->charts)
       texel = std::max({texel, b.texelSizeWS().x, b.texelSizeWS().y});
-    render::RenderOptions options;
-    options.width = options.height = 200;
-    options.channels = render::kDepth | render::kNormal | render::kMask;
     for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
-      const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * diagonal, yaw, pitch);
-      const render::Frame ours = backend.renderFrame(camera, options);
-      const render::Frame truth = reference.renderReference(camera, options.width, options.height);
-      const metrics::RayComparison r =
-          metrics::compareRays(truth.depth, truth.mask, truth.normal, ours.depth, ours.mask, ours.normal);
-      const std::size_t interior = interiorDisagreements(truth, ours);
+      const ViewAgreement v = compareView(backend, reference, bounds, yaw, pitch);
+      const metrics::RayComparison& r = v.rays;
+      const std::size_t interior = v.interior;
       std::printf("%-10s view %3.0f/%3.0f: %zu rays, %zu disagree (%zu only Embree, %zu only ours, %.2e; %zu away "
                   "from silhouettes); depth median %.3f p95 %.3f texels; normals median %.1f degrees\n",
                   c.name, yaw, pitch, r.rays, r.disagreements(), r.onlyReference, r.onlyTest, r.disagreementRate(),
