@@ -58,9 +58,10 @@ metrics::RayComparison measureAgainstMesh(const TriangleMesh& mesh, std::shared_
     Image<std::uint8_t> mask(options.width, options.height, 1);
     parallelFor(0, std::size_t(options.width) * options.height, [&](std::size_t i) {
       const int x = int(i % options.width), y = int(i / options.width);
-      const Hitf hit = reference.closestHit(rays.ray(x, y));
+      const Rayf ray = rays.ray(x, y);
+      const Hitf hit = reference.closestHit(ray);
       // The inner side of an open mesh, seen through a hole, is no surface of a solid.
-      const bool front = hit.valid() && glm::dot(hit.geometricNormal, rays.ray(x, y).direction) < 0;
+      const bool front = hit.valid() && glm::dot(hit.geometricNormal, ray.direction) < 0;
       depth.at(x, y, 0) = front ? hit.t : std::numeric_limits<float>::infinity();
       mask.at(x, y, 0) = front ? 1 : 0;
     });

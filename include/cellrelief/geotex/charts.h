@@ -13,7 +13,6 @@
 #include <iterator>
 #include <numeric>
 #include <span>
-#include <tuple>
 #include <vector>
 
 #include "cellrelief/core/aabb.h"
@@ -40,18 +39,7 @@ inline std::vector<ChartFaces> chartFaces(const TriangleMesh& mesh, const VsaPar
   for (ChartFaces& c : result) c.ownCount = c.faces.size();
   if (rings <= 0) return result;
   // Faces around each (welded) vertex.
-  std::vector<std::uint32_t> weld(mesh.positions.size());
-  {
-    std::vector<std::uint32_t> order(mesh.positions.size());
-    for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v;
-    const auto less = [&](std::uint32_t a, std::uint32_t b) {
-      const Vec3f &p = mesh.positions[a], &q = mesh.positions[b];
-      return std::tie(p.x, p.y, p.z, a) < std::tie(q.x, q.y, q.z, b);
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t i = 0; i < order.size(); ++i)
-      weld[order[i]] = i > 0 && mesh.positions[order[i]] == mesh.positions[order[i - 1]] ? weld[order[i - 1]] : order[i];
-  }
+  const std::vector<std::uint32_t> weld = weldByPosition(mesh);
   std::vector<std::uint32_t> start(mesh.positions.size() + 1, 0), fan(3 * nf);
   for (const Vec3u& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) ++start[weld[t[k]] + 1];

@@ -44,42 +44,38 @@ static_assert(sizeof(GeoTexHeader) == 72);
 static_assert(std::endian::native == std::endian::little,
               "the .cgt format is little-endian and is read by copying host-order values");
 
-/// A chart record as it sits in the file: 15 doubles, width, height, first texel.
+/// Visits a chart record's fields in file order: 15 doubles (origin, three axes, size), width,
+/// height, first texel. One list for writing and reading, so the two cannot drift.
+template <class Chart, class Visit>
+void forEachField(Chart& c, Visit&& visit) {
+  for (int a = 0; a < 3; ++a) visit(c.originWS[a]);
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) visit(c.axisWS[k][a]);
+  for (int a = 0; a < 3; ++a) visit(c.sizeWS[a]);
+  visit(c.width);
+  visit(c.height);
+  visit(c.firstTexel);
+}
+
 inline std::vector<char> packCharts(const std::vector<ChartBox>& charts) {
   std::vector<char> bytes(charts.size() * kChartRecordBytes);
   char* p = bytes.data();
-  auto put = [&](const auto& value) {
-    std::memcpy(p, &value, sizeof value);
-    p += sizeof value;
-  };
-  for (const ChartBox& c : charts) {
-    for (int a = 0; a < 3; ++a) put(c.originWS[a]);
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) put(c.axisWS[k][a]);
-    for (int a = 0; a < 3; ++a) put(c.sizeWS[a]);
-    put(c.width);
-    put(c.height);
-    put(c.firstTexel);
-  }
+  for (const ChartBox& c : charts)
+    forEachField(c, [&](const auto& value) {
+      std::memcpy(p, &value, sizeof value);
+      p += sizeof value;
+    });
   return bytes;
 }
 
 inline std::vector<ChartBox> unpackCharts(const std::vector<char>& bytes) {
   std::vector<ChartBox> charts(bytes.size() / kChartRecordBytes);
   const char* p = bytes.data();
-  auto get = [&](auto& value) {
-    std::memcpy(&value, p, sizeof value);
-    p += sizeof value;
-  };
-  for (ChartBox& c : charts) {
-    for (int a = 0; a < 3; ++a) get(c.originWS[a]);
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) get(c.axisWS[k][a]);
-    for (int a = 0; a < 3; ++a) get(c.sizeWS[a]);
-    get(c.width);
-    get(c.height);
-    get(c.firstTexel);
-  }
+  for (ChartBox& c : charts)
+    forEachField(c, [&](auto& value) {
+      std::memcpy(&value, p, sizeof value);
+      p += sizeof value;
+    });
   return charts;
 }
 }  // namespace detail

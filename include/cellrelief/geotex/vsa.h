@@ -78,6 +78,23 @@ struct FaceGraph {
   std::size_t faceCount() const { return area.size(); }
 };
 
+/// For each vertex, the first vertex at its exact position: vertex identity as the face graph and
+/// the charts' rings see it, so that a soup (an STL file) joins like its welded mesh.
+inline std::vector<std::uint32_t> weldByPosition(const TriangleMesh& mesh) {
+  struct PositionHash {
+    std::size_t operator()(const Vec3f& p) const {
+      const auto bits = [](float x) { return std::hash<float>{}(x == 0.0f ? 0.0f : x); };
+      return bits(p.x) * 73856093u ^ bits(p.y) * 19349663u ^ bits(p.z) * 83492791u;
+    }
+  };
+  std::vector<std::uint32_t> weld(mesh.positions.size());
+  std::unordered_map<Vec3f, std::uint32_t, PositionHash> first;
+  first.reserve(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v)
+    weld[v] = first.try_emplace(mesh.positions[v], std::uint32_t(v)).first->second;
+  return weld;
+}
+
 /// Builds the face graph: faces are neighbours when they share an edge, with vertices identified
 /// by position (a soup joins like its welded mesh); a non-manifold edge joins all its faces.
 inline FaceGraph buildFaceGraph(const TriangleMesh& mesh) {
@@ -95,20 +112,7 @@ inline FaceGraph buildFaceGraph(const TriangleMesh& mesh) {
     g.normal[f] = len > 0 ? n / len : Vec3d(0);
     g.centroid[f] = (a + b + c) / 3.0;
   });
-  // Weld by position so that edges of a soup are found.
-  std::vector<std::uint32_t> weld(mesh.positions.size());
-  {
-    struct PositionHash {
-      std::size_t operator()(const Vec3f& p) const {
-        const auto bits = [](float x) { return std::hash<float>{}(x == 0.0f ? 0.0f : x); };
-        return bits(p.x) * 73856093u ^ bits(p.y) * 19349663u ^ bits(p.z) * 83492791u;
-      }
-    };
-    std::unordered_map<Vec3f, std::uint32_t, PositionHash> first;
-    first.reserve(mesh.positions.size());
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v)
-      weld[v] = first.try_emplace(mesh.positions[v], std::uint32_t(v)).first->second;
-  }
+  const std::vector<std::uint32_t> weld = weldByPosition(mesh);  // so that edges of a soup are found
   struct EdgeUse {
     std::uint64_t key;
     std::uint32_t face;
