@@ -46,6 +46,7 @@
 
 #include "cellrelief/indirection/grid.h"
 #include "cellrelief/indirection/optimizer.h"
+#include "cellrelief/indirection/optimizer_table.h"
 #include "cellrelief/indirection/relief_map.h"
 
 namespace cellrelief::indirection {
@@ -268,6 +269,28 @@ inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options =
   rep.seconds = clock.seconds();
   if (report) *report = rep;
   return grid;
+}
+
+/// The Ceres optimizers for the table of optimizer_table.h: L-BFGS (the default minimizer) and
+/// Levenberg-Marquardt with sparse Cholesky (the plain Ceres solve, fewer iterations).
+inline std::vector<OptimizerEntry> ceresOptimizers() {
+  auto entry = [](bool lm) {
+    return [lm](const ReliefMap& relief, int g, const ProgressCallback& progress, int& iterations) {
+      CeresOptions o;
+      o.gridSize = g;
+      if (lm) {
+        o.lbfgs = false;
+        o.maxIterations = 15;
+        o.maxFinalIterations = 50;
+      }
+      CeresReport r;
+      Grid grid = optimizeCeres(relief, o, progress, &r);
+      iterations = r.iterations;
+      return grid;
+    };
+  };
+  return {{"ceres", "the conformal energy on the vertices' heights, Ceres L-BFGS", entry(false)},
+          {"ceres-lm", "the same, Ceres Levenberg-Marquardt with sparse Cholesky", entry(true)}};
 }
 
 }  // namespace cellrelief::indirection

@@ -59,17 +59,20 @@ namespace detail {
 inline Distortion measureOnTriangles(const Grid& grid, const ReliefMap& relief);
 }
 
-/// The distortion of `grid` on `relief` (see the file comment), per grid cell: the default, and what
-/// the optimizers are compared on. With `subdivisions` > 1 each cell is measured as
-/// `subdivisions`^2 sub-cells of the same piecewise-linear M (0: one per texel the cell spans, at
-/// most 4), which adds the relief detail inside the cells that no g x g grid can adapt to (it is
-/// reported beside, as the irreducible part). Flips are always counted on the grid itself.
+/// The distortion of `grid` on `relief` (see the file comment), per grid cell: the default. With
+/// `subdivisions` > 1 each cell is measured as `subdivisions`^2 sub-cells of the same
+/// piecewise-linear M, which adds the relief detail inside the cells that no g x g grid can adapt
+/// to. 0 picks two sub-cells per texel the cell spans (at most 8): sub-vertices one texel apart
+/// would sit at fixed offsets to the texel centres and alias (measured on the Sponza lion at
+/// 128^2 and g = 32: with one per texel the identity sits on the texel corners, where the bilinear
+/// relief is smoothest, and measures 1.033; with two, 1.109; with four, 1.105). The sub-grid is
+/// capped at kMaxGridSize a side. Flips are always counted on the grid itself.
 inline Distortion measureDistortion(const Grid& grid, const ReliefMap& relief, int subdivisions = 1) {
   if (subdivisions <= 0)
     subdivisions = std::clamp(
-        int(std::lround(double(std::max(relief.width(), relief.height())) / grid.g())), 1, 4);
-  if (subdivisions == 1 || std::size_t(grid.g()) * subdivisions > std::size_t(kMaxGridSize))
-    return detail::measureOnTriangles(grid, relief);
+        int(std::lround(2.0 * std::max(relief.width(), relief.height()) / grid.g())), 1, 8);
+  subdivisions = std::min(subdivisions, std::max(1, kMaxGridSize / grid.g()));
+  if (subdivisions == 1) return detail::measureOnTriangles(grid, relief);
   Distortion d = detail::measureOnTriangles(grid.resampled(grid.g() * subdivisions), relief);
   const Distortion coarse = detail::measureOnTriangles(grid, relief);
   d.flippedCells = coarse.flippedCells;
