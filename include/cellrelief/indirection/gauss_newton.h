@@ -33,7 +33,8 @@
 /// decreases enough), adaptDamping. Flip-free by construction: no accepted step leaves a triangle
 /// with det below `minDeterminant`.
 /// Multi-scale as the other optimizers: g = 16 first, refined to 2g, ..., each level with the
-/// metric averaged over its own cells.
+/// metric averaged over its own cells; the last level is then solved once more with the metric at
+/// two texels per cell (`refinedMetricTexelsPerCell`).
 #pragma once
 
 #include <algorithm>
@@ -66,6 +67,12 @@ struct GaussNewtonOptions {
   double barrier = 0.05;                ///< tau: in-plane det below which the barrier acts
   double minDeterminant = 1e-3;         ///< no accepted step leaves a triangle below this det
   int metricTexelsPerCell = 1;          ///< resolution of the averaged metric, per grid cell
+  /// After the last level, solve it once more with the metric at this many texels per cell (0:
+  /// not). The cell-sized metric is smooth enough to descend from the identity robustly; the finer
+  /// one then resolves the relief inside the cells. Measured per texel at g = 256: lion 1.0650 ->
+  /// 1.0563, bricks 1.3020 -> 1.2662, DirectX rocks 1.0030 -> 1.0021; starting with the finer metric
+  /// instead raised the paper's raised box (192^2, g = 48) from 2.32 to 2.77.
+  int refinedMetricTexelsPerCell = 2;
   double damping = 0.1;                 ///< the initial Levenberg-Marquardt mu
   /// Points at which each triangle samples the metric (1: the centroid, 3: Strang-Fix, 6:
   /// Dunavant). A squeezed triangle then sees only the relief it covers: on the paper's raised box
@@ -95,13 +102,18 @@ class GaussNewtonSolver {
     mInvLambda2 = 1.0 / relief.surfaceArea();
     const std::vector<int> levels = multiScaleSchedule(mO.gridSize, mO.startGridSize);
     const int perCell = mO.metricTexelsPerCell;
-    const ReliefMetric fine(relief, perCell * levels.back());
+    const int refine = mO.refinedMetricTexelsPerCell;
+    const ReliefMetric fine(relief, std::max(perCell, refine) * levels.back());
     Grid grid(levels.front());
     for (std::size_t l = 0; l < levels.size(); ++l) {
       if (l > 0) grid = grid.resampled(levels[l]);
       const bool last = l + 1 == levels.size();
       mMetric = fine.averaged(perCell * grid.g());
-      solveLevel(grid, last, clock, progress, rep);
+      solveLevel(grid, last && !refine, clock, progress, rep);
+      if (last && refine) {
+        mMetric = fine.averaged(refine * grid.g());
+        solveLevel(grid, true, clock, progress, rep);
+      }
     }
     rep.seconds = clock.seconds();
     if (report) *report = rep;
@@ -125,6 +137,8 @@ class GaussNewtonSolver {
       bad("need 0 < minDeterminant < barrier");
     if (mO.metricTexelsPerCell < 1 || mO.metricTexelsPerCell > 8)
       bad("metric texels per cell must be 1 to 8");
+    if (mO.refinedMetricTexelsPerCell < 0 || mO.refinedMetricTexelsPerCell > 8)
+      bad("refined metric texels per cell must be 0 (none) to 8");
     if (mO.quadraturePoints != 1 && mO.quadraturePoints != 3 && mO.quadraturePoints != 6)
       bad("quadrature points must be 1, 3 or 6");
     if (!(mO.damping >= 0) || !std::isfinite(mO.damping)) bad("damping must be >= 0");

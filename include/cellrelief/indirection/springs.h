@@ -40,9 +40,6 @@
 #include <cstdint>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/indirection/grid.h"
 #include "cellrelief/indirection/optimizer.h"
@@ -94,22 +91,22 @@ namespace detail {
 class SpringLevel {
  public:
   SpringLevel(const ReliefMap& relief, const SpringOptions& o, Grid& grid)
-      : mRelief(relief), mO(o), mGrid(grid), mG(grid.g()), mSide(grid.g() + 1) {
+      : mRelief(relief), mOptions(o), mGrid(grid), mG(grid.g()), mSide(grid.g() + 1) {
     const std::size_t n = grid.vertexCount();
-    mZ.resize(n);
-    mGx.resize(n);
-    mGy.resize(n);
+    mHeight.resize(n);
+    mSlopeX.resize(n);
+    mSlopeY.resize(n);
     mNewU.resize(n);
     mNewV.resize(n);
     for (int s = 0; s < 4; ++s) {
-      mFx[s].assign(n, 0.0f);
-      mFy[s].assign(n, 0.0f);
-      mKa[s].assign(n, 0.0f);
-      mFxb[s].assign(n, 0.0f);
-      mFyb[s].assign(n, 0.0f);
-      mKb[s].assign(n, 0.0f);
+      mForceXOnA[s].assign(n, 0.0f);
+      mForceYOnA[s].assign(n, 0.0f);
+      mStiffnessA[s].assign(n, 0.0f);
+      mForceXOnB[s].assign(n, 0.0f);
+      mForceYOnB[s].assign(n, 0.0f);
+      mStiffnessB[s].assign(n, 0.0f);
     }
-    mCellH.assign(std::size_t(mG) * mG, 0.0f);
+    mCellMinHeight.assign(std::size_t(mG) * mG, 0.0f);
     mRowForce.assign(mSide, 0.0);
     mRowBad.assign(mSide, 0);
     for (int s = 0; s < 4; ++s) mRest[s] = springRestLength(kDi[s], kDj[s], mG, o.restScale);
@@ -125,78 +122,70 @@ class SpringLevel {
     const float* u = mGrid.u().data();
     const float* v = mGrid.v().data();
     // Pass 1: heights at the vertices (the snap) and the smallest triangle height of each cell.
-    tbb::parallel_for(tbb::blocked_range<int>(0, side, 8), [&](const tbb::blocked_range<int>& r) {
-      for (int j = r.begin(); j != r.end(); ++j) {
+    parallelForRange(0, std::size_t(side), [&](std::size_t rowBegin, std::size_t rowEnd) {
+      for (int j = int(rowBegin); j != int(rowEnd); ++j) {
         for (int i = 0; i < side; ++i) {
           const std::size_t k = std::size_t(j) * side + i;
-          mZ[k] = mRelief.heightAt(u[k], v[k]);
+          mHeight[k] = mRelief.heightAt(u[k], v[k]);
           const Vec2f grad = mRelief.gradientAt(u[k], v[k]);
-          mGx[k] = grad.x;
-          mGy[k] = grad.y;
+          mSlopeX[k] = grad.x;
+          mSlopeY[k] = grad.y;
         }
         if (j == g) continue;
-        for (int i = 0; i < g; ++i) mCellH[std::size_t(j) * g + i] = cellMinHeight(i, j);
+        for (int i = 0; i < g; ++i) mCellMinHeight[std::size_t(j) * g + i] = cellMinHeight(i, j);
       }
-    });
+    }, 8);
     // Pass 2: the four forward springs of every vertex, each computed once.
-    tbb::parallel_for(tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
-      for (int j = r.begin(); j != r.end(); ++j)
-        for (int i = 0; i < side; ++i) {
-          const std::size_t a = std::size_t(j) * side + i;
-          for (int s = 0; s < 4; ++s) {
-            const int bi = i + kDi[s], bj = j + kDj[s];
-            if (bi < 0 || bi > g || bj > g) continue;
-            const std::size_t b = std::size_t(bj) * side + bi;
-            spring(a, b, mRest[s], s, u, v);
-          }
-        }
-    });
+    if (mOptions.force == SpringForce::InPlane)
+      computeSprings<SpringForce::InPlane>(u, v);
+    else
+      computeSprings<SpringForce::Tangent>(u, v);
     // Pass 3: gather per vertex, project on the boundary, step, clamp.
-    const float frac = mO.maxStepFraction, omega = mO.relaxation;
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
-          for (int j = r.begin(); j != r.end(); ++j) {
+    const float maxFraction = mOptions.maxStepFraction, omega = mOptions.relaxation;
+    parallelForRange(0, std::size_t(side), [&](std::size_t rowBegin, std::size_t rowEnd) {
+          for (int j = int(rowBegin); j != int(rowEnd); ++j) {
             double sum = 0;  // per row, summed in order below: the same total on any thread count
             for (int i = 0; i < side; ++i) {
               const std::size_t k = std::size_t(j) * side + i;
-              float fx = 0, fy = 0, kk = 0;
+              float fx = 0, fy = 0, vertexStiffness = 0;
               for (int s = 0; s < 4; ++s) {
                 if (i + kDi[s] >= 0 && i + kDi[s] <= g && j + kDj[s] <= g) {  // forward: pulls a
-                  fx += mFx[s][k];
-                  fy += mFy[s][k];
-                  kk += mKa[s][k];
+                  fx += mForceXOnA[s][k];
+                  fy += mForceYOnA[s][k];
+                  vertexStiffness += mStiffnessA[s][k];
                 }
                 const int ai = i - kDi[s], aj = j - kDj[s];
                 if (ai >= 0 && ai <= g && aj >= 0) {  // backward: equal and opposite on b
                   const std::size_t a = std::size_t(aj) * side + ai;
-                  fx += mFxb[s][a];
-                  fy += mFyb[s][a];
-                  kk += mKb[s][a];
+                  fx += mForceXOnB[s][a];
+                  fy += mForceYOnB[s][a];
+                  vertexStiffness += mStiffnessB[s][a];
                 }
               }
               if (i == 0 || i == g) fx = 0;
               if (j == 0 || j == g) fy = 0;
               const float f = std::sqrt(fx * fx + fy * fy);
               sum += f;
-              float dx = kk > 0 ? omega * fx / kk : 0, dy = kk > 0 ? omega * fy / kk : 0;
+              float dx = vertexStiffness > 0 ? omega * fx / vertexStiffness : 0;
+              float dy = vertexStiffness > 0 ? omega * fy / vertexStiffness : 0;
               float limit = HUGE_VALF;
               for (int cj = j - 1; cj <= j; ++cj)
                 for (int ci = i - 1; ci <= i; ++ci)
                   if (ci >= 0 && ci < g && cj >= 0 && cj < g)
-                    limit = std::min(limit, mCellH[std::size_t(cj) * g + ci]);
-              limit *= frac;
+                    limit = std::min(limit, mCellMinHeight[std::size_t(cj) * g + ci]);
+              limit *= maxFraction;
               const float d = std::sqrt(dx * dx + dy * dy);
               if (d > limit) {
-                const float sc = limit > 0 ? limit / d : 0.0f;
-                dx *= sc;
-                dy *= sc;
+                const float shrink = limit > 0 ? limit / d : 0.0f;
+                dx *= shrink;
+                dy *= shrink;
               }
               mNewU[k] = u[k] + dx;
               mNewV[k] = v[k] + dy;
             }
             mRowForce[j] = sum;
           }
-        });
+        }, 4);
     double total = 0;
     for (double f : mRowForce) total += f;
     mGrid.u().swap(mNewU);
@@ -223,8 +212,8 @@ class SpringLevel {
     const float* ov = mNewV.data();
     mBad.assign(std::size_t(g) * g, 0);
     for (int round = 0; round < 16; ++round) {
-      tbb::parallel_for(tbb::blocked_range<int>(0, g, 4), [&](const tbb::blocked_range<int>& r) {
-        for (int j = r.begin(); j != r.end(); ++j) {
+      parallelForRange(0, std::size_t(g), [&](std::size_t rowBegin, std::size_t rowEnd) {
+        for (int j = int(rowBegin); j != int(rowEnd); ++j) {
           std::uint8_t any = 0;
           for (int i = 0; i < g; ++i) {
             std::uint8_t bad = 0;
@@ -241,11 +230,11 @@ class SpringLevel {
           }
           mRowBad[j] = any;
         }
-      });
+      }, 4);
       if (std::none_of(mRowBad.begin(), mRowBad.begin() + g, [](std::uint8_t b) { return b; }))
         return;
-      tbb::parallel_for(tbb::blocked_range<int>(0, side, 4), [&](const tbb::blocked_range<int>& r) {
-        for (int j = r.begin(); j != r.end(); ++j)
+      parallelForRange(0, std::size_t(side), [&](std::size_t rowBegin, std::size_t rowEnd) {
+        for (int j = int(rowBegin); j != int(rowEnd); ++j)
           for (int i = 0; i < side; ++i) {
             bool bad = false;
             for (int cj = j - 1; cj <= j; ++cj)
@@ -256,7 +245,7 @@ class SpringLevel {
             mGrid.u()[k] = ou[k];
             mGrid.v()[k] = ov[k];
           }
-      });
+      }, 4);
     }
   }
 
@@ -279,11 +268,30 @@ class SpringLevel {
   /// by (|in-plane part of the chord| + |vertical part| |slope at the end|)^2. The slope term matters:
   /// on a slope s an in-plane move lengthens the spring up to sqrt(1 + s^2) times faster, and a step
   /// that ignored it would overshoot and oscillate on steep reliefs.
+  template <SpringForce Force>
+  void computeSprings(const float* u, const float* v) {
+    const int side = mSide, g = mG;
+    parallelForRange(0, std::size_t(side), [&](std::size_t rowBegin, std::size_t rowEnd) {
+      for (int j = int(rowBegin); j != int(rowEnd); ++j)
+        for (int i = 0; i < side; ++i) {
+          const std::size_t a = std::size_t(j) * side + i;
+          for (int s = 0; s < 4; ++s) {
+            const int bi = i + kDi[s], bj = j + kDj[s];
+            if (bi < 0 || bi > g || bj > g) continue;
+            const std::size_t b = std::size_t(bj) * side + bi;
+            spring<Force>(a, b, mRest[s], s, u, v);
+          }
+        }
+    }, 4);
+  }
+
+  /// The force policy is a template parameter: chosen once per step, not per spring.
+  template <SpringForce Force>
   void spring(std::size_t a, std::size_t b, float rest, int s, const float* u, const float* v) {
-    const float ua = u[a], va = v[a], za = mZ[a], ub = u[b], vb = v[b], zb = mZ[b];
+    const float ua = u[a], va = v[a], za = mHeight[a], ub = u[b], vb = v[b], zb = mHeight[b];
     const float du = ub - ua, dv = vb - va;
     const float l2sq = du * du + dv * dv, l2 = std::sqrt(l2sq);
-    const int n = std::clamp(int(std::ceil(l2 * mInvStep)), mO.minSteps, mO.maxSteps);
+    const int n = std::clamp(int(std::ceil(l2 * mInvStep)), mOptions.minSteps, mOptions.maxSteps);
     const float inv = 1.0f / float(n), stepSq = l2sq * inv * inv;
     float length = 0, pz = za;
     for (int step = 1; step < n; ++step) {
@@ -295,42 +303,42 @@ class SpringLevel {
     length += std::sqrt(stepSq + (zb - pz) * (zb - pz));
     const float chord = std::sqrt(l2sq + (zb - za) * (zb - za));
     const float e = length / rest;
-    const int p = mO.forceOrder;
+    const int p = mOptions.forceOrder;
     float ep1 = 1.0f;  // e^(p-1) by multiplication: std::pow was a third of the iteration time
     for (int k = 1; k < p; ++k) ep1 *= e;
-    const float f = mO.stiffness * (ep1 * e - 1.0f) / float(p);
+    const float f = mOptions.stiffness * (ep1 * e - 1.0f) / float(p);
     const float scale = chord > 0 ? f / chord : 0.0f, dz = zb - za;
     // The 3D force on a is scale (du, dv, dz); on b its opposite.
-    if (mO.force == SpringForce::InPlane) {
-      mFx[s][a] = scale * du;
-      mFy[s][a] = scale * dv;
-      mFxb[s][a] = -scale * du;
-      mFyb[s][a] = -scale * dv;
+    if constexpr (Force == SpringForce::InPlane) {
+      mForceXOnA[s][a] = scale * du;
+      mForceYOnA[s][a] = scale * dv;
+      mForceXOnB[s][a] = -scale * du;
+      mForceYOnB[s][a] = -scale * dv;
     } else {  // the work of the 3D force along the surface: F_xy + F_z grad z at each end
-      mFx[s][a] = scale * (du + dz * mGx[a]);
-      mFy[s][a] = scale * (dv + dz * mGy[a]);
-      mFxb[s][a] = -scale * (du + dz * mGx[b]);
-      mFyb[s][a] = -scale * (dv + dz * mGy[b]);
+      mForceXOnA[s][a] = scale * (du + dz * mSlopeX[a]);
+      mForceYOnA[s][a] = scale * (dv + dz * mSlopeY[a]);
+      mForceXOnB[s][a] = -scale * (du + dz * mSlopeX[b]);
+      mForceYOnB[s][a] = -scale * (dv + dz * mSlopeY[b]);
     }
-    const float k = mO.stiffness * std::max(ep1, 1.0f) / rest;
+    const float k = mOptions.stiffness * std::max(ep1, 1.0f) / rest;
     const float inPlane = chord > 0 ? l2 / chord : 1.0f;
     const float vertical = chord > 0 ? std::abs(dz) / chord : 0.0f;
-    const float sa = std::sqrt(mGx[a] * mGx[a] + mGy[a] * mGy[a]);
-    const float sb = std::sqrt(mGx[b] * mGx[b] + mGy[b] * mGy[b]);
-    mKa[s][a] = k * (inPlane + vertical * sa) * (inPlane + vertical * sa);
-    mKb[s][a] = k * (inPlane + vertical * sb) * (inPlane + vertical * sb);
+    const float sa = std::sqrt(mSlopeX[a] * mSlopeX[a] + mSlopeY[a] * mSlopeY[a]);
+    const float sb = std::sqrt(mSlopeX[b] * mSlopeX[b] + mSlopeY[b] * mSlopeY[b]);
+    mStiffnessA[s][a] = k * (inPlane + vertical * sa) * (inPlane + vertical * sa);
+    mStiffnessB[s][a] = k * (inPlane + vertical * sb) * (inPlane + vertical * sb);
   }
 
   const ReliefMap& mRelief;
-  const SpringOptions& mO;
+  const SpringOptions& mOptions;
   Grid& mGrid;
   int mG, mSide;
   float mRest[4];
   float mInvStep;
-  std::vector<float> mZ, mGx, mGy, mNewU, mNewV, mCellH;
+  std::vector<float> mHeight, mSlopeX, mSlopeY, mNewU, mNewV, mCellMinHeight;
   std::vector<double> mRowForce;
   std::vector<std::uint8_t> mBad, mRowBad;
-  std::vector<float> mFx[4], mFy[4], mFxb[4], mFyb[4], mKa[4], mKb[4];
+  std::vector<float> mForceXOnA[4], mForceYOnA[4], mForceXOnB[4], mForceYOnB[4], mStiffnessA[4], mStiffnessB[4];
 };
 
 inline void checkSpringOptions(const SpringOptions& o) {

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /// @file reference_parameterization.h
 /// CGAL's Surface_mesh_parameterization as the baseline for texture maps: a mesh cut into a disk
-/// (core/cut_graph.h) and flattened by LSCM (Levy et al. 2002: free border, two vertices pinned)
-/// or the discrete conformal map (Eck et al. 1995, "DCP": the border fixed to a circle by arc
-/// length). The map comes back per triangle corner, since a seam vertex has one position per side.
+/// (core/cut_graph.h) and flattened by LSCM (Levy et al. 2002: free border, two vertices pinned),
+/// the discrete conformal map (Eck et al. 1995, "DCP": the border fixed to a circle by arc
+/// length) or ARAP (Liu et al. 2008: local-global from LSCM, free border). The map comes back per
+/// triangle corner, since a seam vertex has one position per side.
 #pragma once
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_parameterization/ARAP_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/Discrete_conformal_map_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
@@ -24,9 +26,11 @@
 
 namespace cellrelief::cgal {
 
-enum class DiskParameterizer { Lscm, DiscreteConformal };
+enum class DiskParameterizer { Lscm, DiscreteConformal, Arap };
 
-inline const char* toString(DiskParameterizer p) { return p == DiskParameterizer::Lscm ? "CGAL LSCM" : "CGAL DCP"; }
+inline const char* toString(DiskParameterizer p) {
+  return p == DiskParameterizer::Lscm ? "CGAL LSCM" : p == DiskParameterizer::Arap ? "CGAL ARAP" : "CGAL DCP";
+}
 
 struct DiskMap {
   std::vector<Vec2d> corners;  ///< 3 per triangle, in the mesh's triangle order
@@ -70,6 +74,8 @@ inline DiskMap parameterizeDisk(const TriangleMesh& mesh, DiskParameterizer whic
   SMP::Error_code status;
   if (which == DiskParameterizer::Lscm)
     status = SMP::parameterize(seamMesh, SMP::LSCM_parameterizer_3<SeamMesh>(), border, uv);
+  else if (which == DiskParameterizer::Arap)
+    status = SMP::parameterize(seamMesh, SMP::ARAP_parameterizer_3<SeamMesh>(), border, uv);
   else
     status = SMP::parameterize(seamMesh, SMP::Discrete_conformal_map_parameterizer_3<SeamMesh>(), border, uv);
   if (status != SMP::OK)
