@@ -103,15 +103,21 @@ class GaussNewtonSolver {
     const std::vector<int> levels = multiScaleSchedule(mO.gridSize, mO.startGridSize);
     const int perCell = mO.metricTexelsPerCell;
     const int refine = mO.refinedMetricTexelsPerCell;
-    const ReliefMetric fine(relief, std::max(perCell, refine) * levels.back());
+    // No finer than twice the height map: there is no detail beyond it (and at g = 4096 the
+    // metric would otherwise take gigabytes).
+    const int texels = std::max(relief.width(), relief.height());
+    auto resolution = [&](int perCellTexels, int g) {
+      return std::min(perCellTexels * g, std::max(g, 2 * texels));
+    };
+    const ReliefMetric fine(relief, resolution(std::max(perCell, refine), levels.back()));
     Grid grid(levels.front());
     for (std::size_t l = 0; l < levels.size(); ++l) {
       if (l > 0) grid = grid.resampled(levels[l]);
       const bool last = l + 1 == levels.size();
-      mMetric = fine.averaged(perCell * grid.g());
+      mMetric = fine.averaged(resolution(perCell, grid.g()));
       solveLevel(grid, last && !refine, clock, progress, rep);
       if (last && refine) {
-        mMetric = fine.averaged(refine * grid.g());
+        mMetric = fine.averaged(resolution(refine, grid.g()));
         solveLevel(grid, true, clock, progress, rep);
       }
     }
