@@ -127,8 +127,8 @@ int runIndirect(const IndirectionCli& o) {
   const Distortion after = measureDistortion(grid, relief, 0);
   std::printf("optimizer     %s, g = %d: %d iterations, %.3f s\n", o.optimizer.c_str(), o.grid,
               iterations, seconds);
-  std::printf("distortion    (per texel) L2 stretch %.4f -> %.4f, angle mean %.4f -> %.4f (max %.2f), area mean "
-              "%.4f -> %.4f, flipped cells %zu\n",
+  std::printf("distortion    (per texel) L2 stretch %.4f -> %.4f, angle mean %.4f -> %.4f (max "
+              "%.2f), area mean %.4f -> %.4f, flipped cells %zu\n",
               before.l2Stretch, after.l2Stretch, before.angleMean, after.angleMean, after.angleMax,
               before.areaMean, after.areaMean, after.flippedCells);
   const int w = o.size > 0 ? o.size : relief.width(), h = o.size > 0 ? o.size : relief.height();
@@ -171,8 +171,8 @@ struct CompareOptimizersCli {
   bool quick = false, pictures = true;
 };
 
-/// The distortion as the comparison measures it: per texel (cells subdivided down to the texels,
-/// at most 4 x 4), what a texture on the relief sees. The per-cell measure on the vertices' heights
+/// The distortion as the comparison measures it: per texel (each cell subdivided into two sub-cells
+/// per texel it spans, at most 8 x 8), what a texture on the relief sees. The per-cell measure on the vertices' heights
 /// alone can be gamed by placing vertices on equal heights (relief_metric.h); it is printed beside.
 Distortion measureOnTexels(const Grid& grid, const ReliefMap& relief) {
   return measureDistortion(grid, relief, 0);

@@ -8,6 +8,7 @@
 
 #include <random>
 
+#include <cellrelief/core/parallel.h>
 #include <cellrelief/indirection/distortion.h>
 #include <cellrelief/indirection/gauss_newton.h>
 #include <cellrelief/indirection/springs.h>
@@ -185,6 +186,26 @@ TEST(GaussNewton, StepsAndWellsStayFiniteAndFlipFree) {
     std::printf("%s g=48 per texel: L2 %.4f -> %.4f (corners %.4f -> %.4f)\n", what,
                 identity.l2Stretch, d.l2Stretch, measureDistortion(Grid(48), relief).l2Stretch,
                 measureDistortion(grid, relief).l2Stretch);
+  }
+}
+
+TEST(GaussNewton, ResultDoesNotDependOnTheThreadCount) {
+  const ReliefMap relief = test::noiseRelief(96, 0.2f, 12, 4);
+  GaussNewtonOptions o;
+  o.gridSize = 32;
+  Grid one, two;
+  {
+    const ThreadLimit limit(1);
+    one = optimizeGaussNewton(relief, o);
+  }
+  {
+    const ThreadLimit limit(2);
+    two = optimizeGaussNewton(relief, o);
+  }
+  ASSERT_EQ(one.vertexCount(), two.vertexCount());
+  for (std::size_t k = 0; k < one.vertexCount(); ++k) {
+    EXPECT_EQ(one.u()[k], two.u()[k]);
+    EXPECT_EQ(one.v()[k], two.v()[k]);
   }
 }
 

@@ -457,19 +457,25 @@ struct CgReport {
 };
 
 /// Solves A x = b by conjugate gradients preconditioned with `mg` (built on A), from x = 0, until
-/// |r| <= tolerance |b| or `maxIterations`. Fixed components of b must be zero.
+/// |r| <= tolerance |b| or `maxIterations`. Fixed components of b must be zero. Deterministic: the
+/// result does not depend on the thread count.
 inline CgReport solveConjugateGradients(const GridStencil& a, GridMultigrid& mg,
                                         const std::vector<double>& b, std::vector<double>& x,
                                         double tolerance, int maxIterations) {
   const std::size_t n = a.unknowns();
+  // Dot products over fixed blocks summed in order: the same result on any thread count.
+  constexpr std::size_t kBlock = 4096;
+  std::vector<double> partial((n + kBlock - 1) / kBlock);
   auto dot = [&](const std::vector<double>& p, const std::vector<double>& q) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, n, 4096), 0.0,
-        [&](const tbb::blocked_range<std::size_t>& r, double s) {
-          for (std::size_t i = r.begin(); i != r.end(); ++i) s += p[i] * q[i];
-          return s;
-        },
-        std::plus<double>());
+    parallelFor(0, partial.size(), [&](std::size_t block) {
+      double s = 0;
+      for (std::size_t i = block * kBlock, end = std::min(n, i + kBlock); i < end; ++i)
+        s += p[i] * q[i];
+      partial[block] = s;
+    }, 1);
+    double sum = 0;
+    for (double s : partial) sum += s;
+    return sum;
   };
   x.assign(n, 0.0);
   std::vector<double> r = b, z(n), p(n), ap(n);
