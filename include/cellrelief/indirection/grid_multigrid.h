@@ -242,7 +242,7 @@ class GridMultigrid {
   void build(const GridStencil& fine) {
     mFine = &fine;
     std::size_t levels = 0;
-    for (int side = fine.side(); side > kCoarsestSide; side = (side - 1 + 1) / 2 + 1) ++levels;
+    for (int side = fine.side(); side > kCoarsestSide; side = side / 2 + 1) ++levels;
     mCoarse.resize(levels);
     mAxes.resize(levels);
     mResidual.resize(levels + 1);
@@ -283,12 +283,6 @@ class GridMultigrid {
     const int gc = (g + 1) / 2, sideC = gc + 1;
     coarse.reset(sideC);
     // Children of coarse index I along one axis: fine f in [2I - 1, 2I + 1] with I as a parent.
-    auto weightOf = [&](int f, int parent) {
-      const detail::Parents& p = axis[std::size_t(f)];
-      for (int c = 0; c < p.count; ++c)
-        if (p.index[c] == parent) return p.weight[c];
-      return 0.0;
-    };
     parallelFor(0, coarse.vertexCount(), [&](std::size_t kc) {
       const int ic = int(kc % sideC), jc = int(kc / sideC);
       const std::uint8_t fixedBits = std::uint8_t((ic == 0 || ic == gc ? 1 : 0) |
@@ -296,11 +290,11 @@ class GridMultigrid {
       coarse.setFixed(kc, fixedBits);
       for (int fj = 2 * jc - 1; fj <= 2 * jc + 1; ++fj) {
         if (fj < 0 || fj > g) continue;
-        const double wj = weightOf(fj, jc);
+        const double wj = weight(axis, fj, jc);
         if (wj == 0) continue;
         for (int fi = 2 * ic - 1; fi <= 2 * ic + 1; ++fi) {
           if (fi < 0 || fi > g) continue;
-          const double w = wj * weightOf(fi, ic);
+          const double w = wj * weight(axis, fi, ic);
           if (w == 0) continue;
           const std::size_t f = std::size_t(fj) * side + fi;
           for (int dj = -1; dj <= 1; ++dj)
