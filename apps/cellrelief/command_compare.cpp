@@ -21,6 +21,7 @@ struct CompareBackendsCli {
   std::string input, output = "out/compare", size = "512x512", camera, device;
   bool shadows = true;
   int repeat = 3;
+  SurfaceCli surface;
 };
 
 struct Rendered {
@@ -49,7 +50,7 @@ Image<std::uint8_t> sideBySide(const std::vector<Rendered>& runs) {
 
 int runCompareBackends(const CompareBackendsCli& o) {
   const auto [width, height] = parseImageSize(o.size);
-  const render::Scene scene = loadScene(o.input);
+  const render::Scene scene = loadScene(o.input, o.surface);
   const render::Camera camera = parseCamera(o.camera, scene.boundsWS());
   render::RenderOptions options;
   options.width = width;
@@ -118,8 +119,9 @@ Command addCompareBackendsCommand(CLI::App& app) {
                                  "Render one scene on every backend that runs here and compare them with the CPU reference");
   auto o = std::make_shared<CompareBackendsCli>();
   cmd->add_option("model", o->input,
-                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder written by "
-                  "`cellrelief polycube`")
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), a folder "
+                  "written by `cellrelief polycube`, or a height map (.png .jpg .tga .bmp) shown by parallax "
+                  "occlusion mapping")
       ->required();
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
@@ -130,6 +132,7 @@ Command addCompareBackendsCommand(CLI::App& app) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_flag("!--no-shadows", o->shadows, "No shadow rays");
+  addSurfaceOptions(cmd, o->surface);
   return {cmd, [o]() { return runCompareBackends(*o); }};
 }
 

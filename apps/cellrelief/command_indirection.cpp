@@ -14,7 +14,9 @@
 #include <cellrelief/indirection/distortion.h>
 #include <cellrelief/indirection/optimizer_table.h>
 #include <cellrelief/indirection/indirection_map.h>
-#include <cellrelief/indirection/parallax.h>
+#include <cellrelief/cpu/cpu_backend.h>
+#include <cellrelief/indirection/indirection_file.h>
+#include <cellrelief/indirection/relief_surface.h>
 #include <cellrelief/indirection/springs.h>
 #include <cellrelief/io/atomic_file.h>
 #include <cellrelief/io/image_io.h>
@@ -37,12 +39,6 @@ struct IndirectionCli {
   int grid = 256, bits = 8, size = 0, threads = 0;
   float heightScale = 0.1f;
 };
-
-Wrap parseWrap(const std::string& w) {
-  if (w == "clamp") return Wrap::Clamp;
-  if (w == "repeat") return Wrap::Repeat;
-  throw Error(ErrorKind::InvalidArgument, "--wrap takes clamp or repeat, not '" + w + "'");
-}
 
 /// Every optimizer this build has: the library's table, and Ceres' where it is built.
 const std::vector<OptimizerEntry>& optimizerTable() {
@@ -89,13 +85,29 @@ ReliefMap loadRelief(const std::string& path, float heightScale, Wrap wrap) {
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
-  io::AtomicFile file(path);
-  {
-    std::ofstream out(file.temporaryPath());
-    out << text;
-    if (!out) throw Error(ErrorKind::FileWrite, path, "cannot write");
-  }
-  file.commit();
+  io::writeTextAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+/// The relief as a surface on the CPU backend, from where the paper's figures look (plain POM
+/// when `indirection` is null), with a checkerboard to show the stretch.
+void writeParallaxPicture(const ReliefMap& relief, const Image<float>* indirection, const std::filesystem::path& png) {
+  auto surface = std::make_shared<ReliefSurface>();
+  surface->relief = relief;
+  if (indirection) surface->indirection = *indirection;
+  render::Scene scene;
+  scene.reliefSurfaces.push_back(std::move(surface));
+  cpu::CpuBackend cpu;
+  cpu.upload(scene);
+  render::Camera camera;
+  camera.eye = Vec3d(0.5, -0.55, 0.75);
+  camera.target = Vec3d(0.5, 0.45, 0.0);
+  camera.up = Vec3d(0, 0, 1);
+  camera.verticalFovDegrees = 45;
+  render::RenderOptions options;
+  options.width = 640;
+  options.height = 480;
+  options.channels = render::kColor;
+  io::writePng(cpu.renderFrame(camera, options).color, png);
 }
 
 int runIndirect(const IndirectionCli& o) {
@@ -133,23 +145,8 @@ int runIndirect(const IndirectionCli& o) {
               before.areaMean, after.areaMean, after.flippedCells);
   const int w = o.size > 0 ? o.size : relief.width(), h = o.size > 0 ? o.size : relief.height();
   const Image<float> I = indirectionMap(grid, w, h);
-  Vec2f scale, bias;
-  if (o.bits == 8) {
-    const auto p = packIndirection<std::uint8_t>(I, 3);
-    io::writePng(p.texels, o.output);
-    scale = p.scale, bias = p.bias;
-  } else {
-    const auto p = packIndirection<std::uint16_t>(I, 3);
-    io::writePng(p.texels, o.output);
-    scale = p.scale, bias = p.bias;
-  }
-  std::ostringstream json;
-  json << "{\n  \"heightmap\": \"" << o.heightmap << "\",\n  \"optimizer\": \"" << o.optimizer
-       << "\",\n  \"grid\": " << o.grid << ",\n  \"height_scale\": " << o.heightScale
-       << ",\n  \"bits\": " << o.bits << ",\n  \"decode\": \"I = bias + scale * texel (R: u, G: v)\""
-       << ",\n  \"scale\": [" << scale.x << ", " << scale.y << "],\n  \"bias\": [" << bias.x << ", "
-       << bias.y << "]\n}\n";
-  writeText(o.output + ".json", json.str());
+  writeIndirectionMap(I, o.output, o.bits, {.heightmap = o.heightmap, .optimizer = o.optimizer, .grid = o.grid,
+                                            .heightScale = o.heightScale});
   if (!o.prewarpIn.empty()) {
     io::writePng(prewarp(std::get<Image<std::uint8_t>>(texture.pixels), grid, parseWrap(o.wrap)),
                  o.prewarpOut);
@@ -302,13 +299,10 @@ int runCompareOptimizers(CompareOptimizersCli o) {
       for (const Run& r : runs)
         if (r.map == name && (!best || r.final.l2Stretch < best->final.l2Stretch)) best = &r;
       const Image<float> I = indirectionMap(best->grid, 512, 512);
-      ParallaxView view;
       const ReliefMap shown = o.quick ? relief : downsample(relief, 1024);
-      io::writePng(renderParallax(shown, nullptr, checkerboard(16), view),
-                   std::filesystem::path(o.out) / ("indirection_" + name + "_pom_before.png"));
-      io::writePng(renderParallax(shown, &I, checkerboard(16), view),
-                   std::filesystem::path(o.out) / ("indirection_" + name + "_pom_after_" +
-                                                   best->optimizer + ".png"));
+      writeParallaxPicture(shown, nullptr, std::filesystem::path(o.out) / ("indirection_" + name + "_pom_before.png"));
+      writeParallaxPicture(shown, &I,
+                           std::filesystem::path(o.out) / ("indirection_" + name + "_pom_after_" + best->optimizer + ".png"));
     }
   }
   writeText(std::filesystem::path(o.out) / "indirection_convergence.csv", csv.str());

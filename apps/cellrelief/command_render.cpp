@@ -11,6 +11,7 @@
 
 #include <cellrelief/backends/backend_table.h>
 #include <cellrelief/geotex/geotex_file.h>
+#include <cellrelief/indirection/relief_surface.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/polycube/polycube_result.h>
@@ -27,6 +28,7 @@ struct RenderCli {
   std::string input, output, backend = "auto", device, size = "800x800", camera, depth, normals;
   bool shadows = true, skip = true;
   int reflections = 0;
+  SurfaceCli surface;
 };
 
 std::vector<double> parseNumbers(const std::string& text, const std::string& what) {
@@ -101,7 +103,57 @@ std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& inpu
   return model;
 }
 
-render::Scene loadScene(const std::string& input) {
+Wrap parseWrap(const std::string& w) {
+  if (w == "clamp") return Wrap::Clamp;
+  if (w == "repeat") return Wrap::Repeat;
+  throw Error(ErrorKind::InvalidArgument, "--wrap takes clamp or repeat, not '" + w + "'");
+}
+
+void addSurfaceOptions(CLI::App* cmd, SurfaceCli& o) {
+  cmd->add_option("--indirection", o.indirection,
+                  "With a height map: its indirection map (as `cellrelief indirect` writes it, PNG + .json)");
+  cmd->add_option("--texture", o.colors, "With a height map: the colour map fetched at (u, v) + I(u, v) (default: a checkerboard)");
+  cmd->add_option("--normal-map", o.normals,
+                  "With a height map: a tangent-space normal map (default: a DirectX SDK TGA's RGB, else the heights' normals)");
+  cmd->add_option("--height-scale", o.heightScale,
+                  "With a height map: relief height in tile widths (default: the indirection map's, else 0.1)");
+  cmd->add_option("--wrap", o.wrap, "With a height map: clamp or repeat (tiling maps)")->capture_default_str();
+  cmd->add_option("--checker", o.checker, "With a height map and no texture: checkerboard squares per side")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+}
+
+namespace {
+
+render::Scene reliefSurfaceScene(const std::string& input, const SurfaceCli& o) {
+  if (o.heightScale < 0 || !std::isfinite(o.heightScale) || o.heightScale > 100)
+    throw Error(ErrorKind::InvalidArgument, "--height-scale must lie in (0, 100]");
+  indirection::ReliefSurfaceFiles files;
+  files.heightmap = input;
+  files.indirection = o.indirection;
+  files.colors = o.colors;
+  files.normals = o.normals;
+  if (o.heightScale > 0) files.heightScale = o.heightScale;
+  files.wrap = parseWrap(o.wrap);
+  auto surface = std::make_shared<indirection::ReliefSurface>(indirection::loadReliefSurface(files));
+  surface->checkerSquares = o.checker;
+  std::printf("relief surface %s: %dx%d texels, height scale %g, %s, %s, %s\n", input.c_str(), surface->relief.width(),
+              surface->relief.height(), surface->relief.heightScale(),
+              surface->hasIndirection() ? ("indirection " + o.indirection).c_str() : "no indirection map (plain POM)",
+              o.colors.empty() ? "checkerboard" : ("colours " + o.colors).c_str(),
+              surface->normals.isEmpty() ? "normals of the heights"
+                                         : (o.normals.empty() ? "normals from the TGA's RGB" : ("normals " + o.normals).c_str()));
+  render::Scene scene;
+  scene.reliefSurfaces.push_back(std::move(surface));
+  return scene;
+}
+
+}  // namespace
+
+render::Scene loadScene(const std::string& input, const SurfaceCli& surface) {
+  if (io::isImageFile(input)) return reliefSurfaceScene(input, surface);
+  if (!surface.indirection.empty() || !surface.colors.empty() || !surface.normals.empty())
+    throw Error(ErrorKind::InvalidArgument, "--indirection, --texture and --normal-map apply to a height map (an image), not " + input);
   if (std::filesystem::path(input).extension() == ".cgt") {
     render::Scene scene;
     scene.geotexModels.push_back(std::make_shared<geotex::GeoTexModel>(geotex::readGeoTex(input)));
@@ -150,7 +202,7 @@ Image<std::uint8_t> normalImage(const render::Frame& frame) {
 int runRender(const RenderCli& o) {
   const auto [width, height] = parseImageSize(o.size);
   auto backend = backends::createBackend(render::parseBackendKind(o.backend), {.vulkanDevice = o.device});
-  const render::Scene scene = loadScene(o.input);
+  const render::Scene scene = loadScene(o.input, o.surface);
   render::RenderOptions options;
   options.width = width;
   options.height = height;
@@ -210,8 +262,9 @@ Command addRenderCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
   auto o = std::make_shared<RenderCli>();
   cmd->add_option("model", o->input,
-                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder "
-                  "written by `cellrelief polycube`")
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), a folder "
+                  "written by `cellrelief polycube`, or a height map (.png .jpg .tga .bmp) shown by parallax "
+                  "occlusion mapping")
       ->required();
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
@@ -226,6 +279,7 @@ Command addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(0, 8))
       ->capture_default_str();
   cmd->add_flag("!--no-skip", o->skip, "Plain linear + binary search (no empty-space skipping)");
+  addSurfaceOptions(cmd, o->surface);
   return {cmd, [o]() { return runRender(*o); }};
 }
 

@@ -31,6 +31,7 @@ namespace {
 struct ViewCli {
   std::string input, backend = "auto", device, size = "960x720", camera, screenshot, channel = "color";
   int frames = 0;
+  SurfaceCli surface;
 };
 
 enum class Channel { Color, Depth, Normal, Cell, Steps };
@@ -162,7 +163,7 @@ Image<std::uint8_t> readWindow(int width, int height) {
 
 int runView(const ViewCli& o) {
   const auto [width, height] = parseImageSize(o.size);
-  const render::Scene scene = loadScene(o.input);
+  const render::Scene scene = loadScene(o.input, o.surface);
   const Aabbd bounds = scene.boundsWS();
   ViewerState state;
   {
@@ -305,8 +306,9 @@ Command addViewCommand(CLI::App& app) {
               "vulkan), S shadows, K skipping, C channel (color, depth, normal, cell id, steps), P screenshot");
   auto o = std::make_shared<ViewCli>();
   cmd->add_option("model", o->input,
-                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), or a folder "
-                  "written by `cellrelief polycube`")
+                  "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), a folder "
+                  "written by `cellrelief polycube`, or a height map (.png .jpg .tga .bmp) shown by parallax "
+                  "occlusion mapping")
       ->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);
@@ -317,6 +319,7 @@ Command addViewCommand(CLI::App& app) {
   cmd->add_option("--channel", o->channel, "Channel shown first: color, depth, normal, cell or steps")
       ->capture_default_str();
   cmd->add_option("--screenshot", o->screenshot, "With --frames: write what the window shows at the end (.png)");
+  addSurfaceOptions(cmd, o->surface);
   return {cmd, [o]() { return runView(*o); }};
 }
 

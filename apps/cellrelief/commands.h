@@ -95,10 +95,22 @@ auto withPath(const std::string& input, Work&& work) {
 /// one line about the conversion).
 std::shared_ptr<const relief::ReliefModel> loadOrConvert(const std::string& input);
 
-/// The scene `render` and `view` show: a `cellrelief polycube` output folder (its mesh textured
-/// through its polycube map), a geometry-texture model (.cgt), else the relief model of
-/// loadOrConvert.
-render::Scene loadScene(const std::string& input);
+/// `--wrap clamp|repeat`.
+Wrap parseWrap(const std::string& wrap);
+
+/// How a height map is shown as a relief surface (parallax occlusion mapping with an indirection
+/// map): the options `render`, `view` and `compare-backends` share.
+struct SurfaceCli {
+  std::string indirection, colors, normals, wrap = "clamp";
+  float heightScale = 0;  ///< 0: the indirection map's, else 0.1
+  int checker = 16;
+};
+void addSurfaceOptions(CLI::App* cmd, SurfaceCli& o);
+
+/// The scene `render`, `view` and `compare-backends` show: a height map (an image) as a relief
+/// surface with `surface`'s maps, a `cellrelief polycube` output folder (its mesh textured through
+/// its polycube map), a geometry-texture model (.cgt), else the relief model of loadOrConvert.
+render::Scene loadScene(const std::string& input, const SurfaceCli& surface = {});
 
 Command addCompareBackendsCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);

@@ -9,7 +9,8 @@
 //    CR_SHADOWS, CR_REFLECTIONS (features used), CR_GATHER (one textureGather per 2 x 2 samples),
 //    CR_OUT_COLOR, CR_OUT_DEPTH, CR_OUT_NORMAL, CR_OUT_MASK, CR_OUT_CELL, CR_OUT_STEPS (channels),
 //    CR_POLYCUBE (polycube-mapped meshes present; gpu/polycube_layout.h), CR_GEOTEX (geometry
-//    textures present; gpu/geotex_layout.h);
+//    textures present; gpu/geotex_layout.h), CR_PARALLAX (relief surfaces present;
+//    gpu/parallax_layout.h);
 //    OpenGL compiles them as plain constants, Vulkan as specialization constants of one SPIR-V
 //    module; either way the compiler removes the branches a variant switches off;
 //  - the workgroup size and the number of lights.
@@ -1650,6 +1651,252 @@ void gtShade(int model, ChartHit h, out vec3 normal, out vec3 base) {
   base = colorBase != 0u && total > 0.0 ? c : vec3(CR_GT_NEUTRAL_GREY);
 }
 
+// ---- relief surfaces (trace/parallax_tracer.h; the words of gpu/parallax_layout.h) ------------
+
+layout(std430, CR_BIND(13)) readonly buffer ParallaxWords { uint pxWords[]; };
+
+int pxSurfaceCount() { return CR_PARALLAX ? int(pxWords[0]) : 0; }
+uint pxInfo(int s, int field) { return pxWords[1 + s * CR_PX_SURFACE_WORDS + field]; }
+float pxInfoFloat(int s, int field) { return uintBitsToFloat(pxInfo(s, field)); }
+vec3 pxInfoVec3(int s, int field) { return vec3(pxInfoFloat(s, field), pxInfoFloat(s, field + 1), pxInfoFloat(s, field + 2)); }
+
+struct SurfaceHit {
+  float t;
+  vec2 uv;
+  int face;  // ParallaxFace: -1 the relief, 0..4 a wall of the slab
+};
+
+// indirection::bilinearAxis (relief_map.h), without the slope
+void pxAxis(float t, int size, bool repeat, out int i0, out int i1, out float f) {
+  float x = t * float(size) - 0.5;
+  if (repeat) {
+    if (isinf(x) || isnan(x)) x = 0.0;
+    x -= float(size) * floor(x / float(size));
+    const float fl = floor(x);
+    i0 = min(int(fl), size - 1);
+    i1 = i0 + 1 == size ? 0 : i0 + 1;
+    f = x - fl;
+    return;
+  }
+  if (!(x > 0.0)) {
+    i0 = i1 = 0;
+    f = 0.0;
+    return;
+  }
+  if (x >= float(size - 1)) {
+    i0 = i1 = size - 1;
+    f = 0.0;
+    return;
+  }
+  const float fl = floor(x);
+  i0 = int(fl);
+  i1 = i0 + 1;
+  f = x - fl;
+}
+
+float pxLerp(float a, float b, float t) { return a + (b - a) * t; }
+
+// ReliefMap::heightAt over the surface's float heights.
+float pxHeight(int s, vec2 uv) {
+  const int w = int(pxInfo(s, CR_PX_HEIGHT_WIDTH)), h = int(pxInfo(s, CR_PX_HEIGHT_HEIGHT));
+  const bool repeat = pxInfo(s, CR_PX_REPEAT) != 0u;
+  const uint base = pxInfo(s, CR_PX_HEIGHT_OFFSET);
+  int x0, x1, y0, y1;
+  float fx, fy;
+  pxAxis(uv.x, w, repeat, x0, x1, fx);
+  pxAxis(uv.y, h, repeat, y0, y1, fy);
+  const uint r0 = base + uint(y0 * w), r1 = base + uint(y1 * w);
+  const float a = pxLerp(uintBitsToFloat(pxWords[r0 + uint(x0)]), uintBitsToFloat(pxWords[r0 + uint(x1)]), fx);
+  const float b = pxLerp(uintBitsToFloat(pxWords[r1 + uint(x0)]), uintBitsToFloat(pxWords[r1 + uint(x1)]), fx);
+  return pxLerp(a, b, fy);
+}
+
+// ReliefMap::gradientAt
+vec2 pxGradient(int s, vec2 uv) {
+  const int w = int(pxInfo(s, CR_PX_HEIGHT_WIDTH)), h = int(pxInfo(s, CR_PX_HEIGHT_HEIGHT));
+  const bool repeat = pxInfo(s, CR_PX_REPEAT) != 0u;
+  const uint base = pxInfo(s, CR_PX_HEIGHT_OFFSET);
+  int x0, x1, y0, y1;
+  float fx, fy;
+  pxAxis(uv.x, w, repeat, x0, x1, fx);
+  pxAxis(uv.y, h, repeat, y0, y1, fy);
+  // d(fraction)/d(coordinate): the size, 0 where the clamped interpolant is constant
+  const float sx = !repeat && x0 == x1 ? 0.0 : float(w), sy = !repeat && y0 == y1 ? 0.0 : float(h);
+  const uint r0 = base + uint(y0 * w), r1 = base + uint(y1 * w);
+  const float h00 = uintBitsToFloat(pxWords[r0 + uint(x0)]), h10 = uintBitsToFloat(pxWords[r0 + uint(x1)]);
+  const float h01 = uintBitsToFloat(pxWords[r1 + uint(x0)]), h11 = uintBitsToFloat(pxWords[r1 + uint(x1)]);
+  return vec2((pxLerp(h10, h11, fy) - pxLerp(h00, h01, fy)) * sx, (pxLerp(h01, h11, fx) - pxLerp(h00, h10, fx)) * sy);
+}
+
+// detail::bilinear over an RGBA8 map (colours, normals); unpackUnorm4x8 is the CPU's q / 255.
+vec3 pxRgba(int s, int offsetField, vec2 uv, bool repeat) {
+  const uint base = pxInfo(s, offsetField);
+  const int w = int(pxInfo(s, offsetField + 1)), h = int(pxInfo(s, offsetField + 2));
+  int x0, x1, y0, y1;
+  float fx, fy;
+  pxAxis(uv.x, w, repeat, x0, x1, fx);
+  pxAxis(uv.y, h, repeat, y0, y1, fy);
+  const vec3 c00 = unpackUnorm4x8(pxWords[base + uint(y0 * w + x0)]).rgb;
+  const vec3 c10 = unpackUnorm4x8(pxWords[base + uint(y0 * w + x1)]).rgb;
+  const vec3 c01 = unpackUnorm4x8(pxWords[base + uint(y1 * w + x0)]).rgb;
+  const vec3 c11 = unpackUnorm4x8(pxWords[base + uint(y1 * w + x1)]).rgb;
+  vec3 out3;
+  for (int c = 0; c < 3; ++c) out3[c] = pxLerp(pxLerp(c00[c], c10[c], fx), pxLerp(c01[c], c11[c], fx), fy);
+  return out3;
+}
+
+// detail::bilinear over the indirection map (two floats per texel, clamped).
+vec2 pxIndirection(int s, vec2 uv) {
+  const uint base = pxInfo(s, CR_PX_INDIRECTION_OFFSET);
+  const int w = int(pxInfo(s, CR_PX_INDIRECTION_OFFSET + 1)), h = int(pxInfo(s, CR_PX_INDIRECTION_OFFSET + 2));
+  int x0, x1, y0, y1;
+  float fx, fy;
+  pxAxis(uv.x, w, false, x0, x1, fx);
+  pxAxis(uv.y, h, false, y0, y1, fy);
+  vec2 out2;
+  for (int c = 0; c < 2; ++c) {
+    const float a = pxLerp(uintBitsToFloat(pxWords[base + uint(2 * (y0 * w + x0) + c)]),
+                           uintBitsToFloat(pxWords[base + uint(2 * (y0 * w + x1) + c)]), fx);
+    const float b = pxLerp(uintBitsToFloat(pxWords[base + uint(2 * (y1 * w + x0) + c)]),
+                           uintBitsToFloat(pxWords[base + uint(2 * (y1 * w + x1) + c)]), fx);
+    out2[c] = pxLerp(a, b, fy);
+  }
+  return out2;
+}
+
+// ParallaxTracer::clipToSlab
+bool pxClipToSlab(vec3 o, vec3 d, float top, inout float t0, inout float t1, out int entry) {
+  const vec3 lo = vec3(0.0), hi = vec3(1.0, 1.0, top);
+  entry = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (!(o[a] >= lo[a] && o[a] <= hi[a])) return false;
+      continue;
+    }
+    const float inv = 1.0 / d[a];
+    float ta = (lo[a] - o[a]) * inv, tb = (hi[a] - o[a]) * inv;
+    const bool towardsLow = ta > tb;
+    if (towardsLow) {
+      const float swap = ta;
+      ta = tb;
+      tb = swap;
+    }
+    if (ta > t0) {
+      t0 = ta;
+      entry = a == 2 ? (towardsLow ? -1 : 4) : 2 * a + (towardsLow ? 1 : 0);
+    }
+    t1 = min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+float pxGap(int s, vec3 o, vec3 d, float t, inout uint samples) {
+  ++samples;
+  const vec3 p = o + t * d;
+  return p.z - pxHeight(s, p.xy);
+}
+
+// ParallaxTracer::intersect over [tmin, tmax].
+SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, inout uint samples) {
+  SurfaceHit hit = SurfaceHit(CR_INF, vec2(0.0), -1);
+  const vec3 r = ro - pxInfoVec3(s, CR_PX_ORIGIN);
+  const vec3 rowU = pxInfoVec3(s, CR_PX_ROW_U), rowV = pxInfoVec3(s, CR_PX_ROW_V), rowW = pxInfoVec3(s, CR_PX_ROW_W);
+  const vec3 o = vec3(dot(r, rowU), dot(r, rowV), dot(r, rowW));
+  const vec3 d = vec3(dot(rd, rowU), dot(rd, rowV), dot(rd, rowW));
+  float t0 = tmin, t1 = tmax;
+  int entry;
+  if (!pxClipToSlab(o, d, pxInfoFloat(s, CR_PX_TOP), t0, t1, entry)) return hit;
+  float gapA = pxGap(s, o, d, t0, samples);
+  if (gapA <= 0.0) {
+    hit.t = t0;
+    hit.face = entry;
+    hit.uv = vec2(o.x + t0 * d.x, o.y + t0 * d.y);
+    return hit;
+  }
+  const float span = t1 - t0;
+  const float texels = max(abs(span * d.x) * float(pxInfo(s, CR_PX_HEIGHT_WIDTH)),
+                           abs(span * d.y) * float(pxInfo(s, CR_PX_HEIGHT_HEIGHT)));
+  const int steps = int(clamp(ceil(texels * CR_PX_STEPS_PER_TEXEL), float(CR_PX_MIN_LINEAR_STEPS), float(CR_PX_MAX_LINEAR_STEPS)));
+  float a = t0;
+  for (int k = 1; k <= steps; ++k) {
+    const float b = t0 + span * float(k) / float(steps);
+    const float gapB = pxGap(s, o, d, b, samples);
+    if (gapB > 0.0) {
+      a = b;
+      gapA = gapB;
+      continue;
+    }
+    float lo = a, hi = b, gapHi = gapB;
+    for (int i = 0; i < CR_PX_REFINE_STEPS; ++i) {
+      const float m = 0.5 * (lo + hi);
+      const float gm = pxGap(s, o, d, m, samples);
+      if (gm > 0.0) {
+        lo = m;
+        gapA = gm;
+      } else {
+        hi = m;
+        gapHi = gm;
+      }
+    }
+    hit.t = lo + (hi - lo) * (gapA / (gapA - gapHi));
+    hit.uv = vec2(o.x + hit.t * d.x, o.y + hit.t * d.y);
+    return hit;
+  }
+  return hit;
+}
+
+// The nearest surface hit before tmax (CpuBackend::intersect, after the charts).
+int pxTraceSurfaces(vec3 o, vec3 d, float tmax, out SurfaceHit best, inout uint samples) {
+  best = SurfaceHit(tmax, vec2(0.0), -1);
+  int found = -1;
+  for (int s = 0; s < pxSurfaceCount(); ++s) {
+    const SurfaceHit h = pxTrace(s, o, d, 0.0, best.t, samples);
+    if (!isinf(h.t) && h.t < best.t) {
+      best = h;
+      found = s;
+    }
+  }
+  return found;
+}
+
+bool pxOccluded(vec3 o, vec3 d) {
+  uint samples = 0u;
+  for (int s = 0; s < pxSurfaceCount(); ++s)
+    if (!isinf(pxTrace(s, o, d, 0.0, CR_INF, samples).t)) return true;
+  return false;
+}
+
+float pxSurfaceOffset(int s) { return pxInfoFloat(s, CR_PX_SURFACE_OFFSET); }
+
+// ParallaxTracer::normalAt and colorAt.
+void pxShade(int s, SurfaceHit h, out vec3 normal, out vec3 base) {
+  const bool repeat = pxInfo(s, CR_PX_REPEAT) != 0u;
+  vec3 n;
+  if (h.face == 0) n = vec3(-1.0, 0.0, 0.0);
+  else if (h.face == 1) n = vec3(1.0, 0.0, 0.0);
+  else if (h.face == 2) n = vec3(0.0, -1.0, 0.0);
+  else if (h.face == 3) n = vec3(0.0, 1.0, 0.0);
+  else if (h.face == 4) n = vec3(0.0, 0.0, -1.0);
+  else if (pxInfo(s, CR_PX_NORMAL_OFFSET) != 0u) {
+    const vec3 m = pxRgba(s, CR_PX_NORMAL_OFFSET, h.uv, repeat) * 2.0 - 1.0;
+    const float len = length(m);
+    n = len > 1e-6 ? m / len : vec3(0.0, 0.0, 1.0);
+  } else {
+    const vec2 g = pxGradient(s, h.uv);
+    n = normalize(vec3(-g.x, -g.y, 1.0));
+  }
+  normal = n.x * pxInfoVec3(s, CR_PX_AXIS_U) + n.y * pxInfoVec3(s, CR_PX_AXIS_V) + n.z * pxInfoVec3(s, CR_PX_AXIS_W);
+  vec2 st = h.uv;
+  if (pxInfo(s, CR_PX_INDIRECTION_OFFSET) != 0u) st += pxIndirection(s, h.uv);
+  if (pxInfo(s, CR_PX_COLOR_OFFSET) != 0u) {
+    base = pxRgba(s, CR_PX_COLOR_OFFSET, st, repeat);
+  } else {
+    const float squares = float(pxInfo(s, CR_PX_CHECKER_SQUARES));
+    const int parity = int(floor(st.x * squares)) + int(floor(st.y * squares));
+    base = (parity & 1) != 0 ? CR_PX_CHECKER_LIGHT : CR_PX_CHECKER_DARK;
+  }
+}
+
 // ---- the scene ---------------------------------------------------------------------------------
 
 // The nearest hit over the scene's models (CpuBackend::intersect); leaves that model selected.
@@ -1675,6 +1922,7 @@ Hit traceScene(vec3 o, vec3 d, out int hitModel) {
 bool occludedScene(vec3 o, vec3 d) {
   if (CR_POLYCUBE && pcOccluded(o, d)) return true;
   if (CR_GEOTEX && gtOccluded(o, d)) return true;
+  if (CR_PARALLAX && pxOccluded(o, d)) return true;
   for (int m = 0; m < P.size.z; ++m) {
     selectModel(m);
     if (traceModel(o, d, 0.0, CR_INF).cell >= 0) return true;
@@ -1835,8 +2083,12 @@ void main() {
   const int charts = CR_GEOTEX ? gtTraceModels(eye, direction, mesh >= 0 ? meshHit.t : (hit.cell >= 0 ? hit.t : CR_INF),
                                                chartHit, samples) : -1;
   if (charts >= 0) mesh = -1;  // nearer than both
+  SurfaceHit surfaceHit;
+  const int surface = CR_PARALLAX ? pxTraceSurfaces(eye, direction, charts >= 0 ? chartHit.t : (mesh >= 0 ? meshHit.t : (hit.cell >= 0 ? hit.t : CR_INF)),
+                                                    surfaceHit, samples) : -1;
+  if (surface >= 0) mesh = -1;  // nearer than all
   if (CR_OUT_STEPS) frameWords[P.offsets.w + index] = floatBitsToUint(float(samples));
-  if (hit.cell < 0 && mesh < 0 && charts < 0) {
+  if (hit.cell < 0 && mesh < 0 && charts < 0 && surface < 0) {
     if (CR_OUT_COLOR) {
       const uvec4 bg = uvec4(floor(255.0 * clamp(P.background, 0.0, 1.0) + 0.5));
       frameWords[P.flags.z + index] = bg.r | (bg.g << 8) | (bg.b << 16) | (bg.a << 24);
@@ -1850,7 +2102,11 @@ void main() {
   }
   vec3 shadingNormal, base;
   float t, offset;
-  if (charts >= 0) {
+  if (surface >= 0) {
+    pxShade(surface, surfaceHit, shadingNormal, base);
+    t = surfaceHit.t;
+    offset = pxSurfaceOffset(surface);
+  } else if (charts >= 0) {
     gtShade(charts, chartHit, shadingNormal, base);
     t = chartHit.t;
     offset = gtSurfaceOffset(charts);
@@ -1871,7 +2127,7 @@ void main() {
   if (CR_OUT_MASK) frameWords[P.offsets.y + index] = 1u;
   if (CR_OUT_CELL)
     frameWords[P.offsets.z + index] =
-        floatBitsToUint(mesh >= 0 || charts >= 0 ? -1.0 : float(hit.cell - models[model].cellOffset));
+        floatBitsToUint(mesh >= 0 || charts >= 0 || surface >= 0 ? -1.0 : float(hit.cell - models[model].cellOffset));
   if (!CR_OUT_COLOR) return;
   // CpuBackend::shade, its recursion unrolled: each bounce's local color weighs (1 - r) r^k.
   vec3 position = eye + t * direction;
@@ -1899,13 +2155,22 @@ void main() {
                                                        nextMesh >= 0 ? mh.t : (h.cell >= 0 ? h.t : CR_INF), ch, unused)
                                        : -1;
       if (nextCharts >= 0) nextMesh = -1;
-      if (h.cell < 0 && nextMesh < 0 && nextCharts < 0) {
+      SurfaceHit sh;
+      const int nextSurface = CR_PARALLAX ? pxTraceSurfaces(mirrorOrigin, mirrorDirection,
+                                                            nextCharts >= 0 ? ch.t : (nextMesh >= 0 ? mh.t : (h.cell >= 0 ? h.t : CR_INF)),
+                                                            sh, unused) : -1;
+      if (nextSurface >= 0) nextMesh = -1;
+      if (h.cell < 0 && nextMesh < 0 && nextCharts < 0 && nextSurface < 0) {
         result += weight * P.background.rgb;
         break;
       }
       vec3 nextNormal;
       float nextT;
-      if (nextCharts >= 0) {
+      if (nextSurface >= 0) {
+        pxShade(nextSurface, sh, nextNormal, baseK);
+        nextT = sh.t;
+        offsetK = pxSurfaceOffset(nextSurface);
+      } else if (nextCharts >= 0) {
         gtShade(nextCharts, ch, nextNormal, baseK);
         nextT = ch.t;
         offsetK = gtSurfaceOffset(nextCharts);

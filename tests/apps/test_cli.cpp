@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The `cellrelief` program as a user runs it: exit codes, messages on bad input, help, version.
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <sys/wait.h>
 
@@ -401,6 +402,56 @@ TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
   EXPECT_EQ(bad.status, 1) << bad.output;
   EXPECT_TRUE(test::hasWords(bad.output, "absent.crm")) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
+// A height map shown by parallax occlusion mapping with the indirection map `indirect` wrote: the
+// same picture on every backend, a different one without the map, and clear errors for maps that
+// do not belong together.
+TEST(Cli, RenderShowsAHeightMapWithItsIndirectionMapOnEveryBackend) {
+  test::TempDir dir;
+  Image<std::uint8_t> bumps(64, 64, 1);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      bumps.at(x, y, 0) = std::uint8_t(127.5 + 127 * std::sin(0.3 * x) * std::cos(0.25 * y));
+  const std::string hm = (dir / "bumps.png").string(), map = (dir / "I.png").string();
+  io::writePng(bumps, hm);
+  const Result made = run("indirect " + hm + " --grid 16 --height-scale 0.15 -o " + map);
+  ASSERT_EQ(made.status, 0) << made.output;
+  const std::string common = " --size 96x64 --camera 20,35";
+  const Result cpu = run("render " + hm + " --indirection " + map + " -o " + (dir / "cpu.png").string() + common +
+                         " --backend cpu");
+  ASSERT_EQ(cpu.status, 0) << cpu.output;
+  EXPECT_TRUE(test::hasWords(cpu.output, "height scale 0.15, indirection")) << cpu.output;
+  for (const char* backend : {"opengl", "vulkan"}) {
+    const std::string png = (dir / (std::string(backend) + ".png")).string();
+    const Result r = run("render " + hm + " --indirection " + map + " -o " + png + common + " --backend " + backend, kDrivers);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_LE(differingPixels(png, dir / "cpu.png"), 96 * 64 / 200) << backend;
+  }
+  const Result plain =
+      run("render " + hm + " --height-scale 0.15 -o " + (dir / "plain.png").string() + common + " --backend cpu");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_GT(differingPixels(dir / "plain.png", dir / "cpu.png"), 96 * 64 / 60);  // measured 185
+  const Result cmp = run("compare-backends " + hm + " --indirection " + map + " --size 64x48 --repeat 1 -o " +
+                             (dir / "cmp").string(), kDrivers);
+  ASSERT_EQ(cmp.status, 0) << cmp.output;
+  EXPECT_TRUE(test::hasWords(cmp.output, "vulkan ")) << cmp.output;
+  // Maps that do not belong together, and options that do not apply.
+  std::filesystem::copy_file(map, dir / "lone.png");
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  const std::string out = " -o " + (dir / "x.png").string() + " --backend cpu --size 8x8";
+  const std::pair<std::string, std::string> cases[] = {
+      {"render " + hm + " --indirection " + (dir / "absent.png").string() + out, "no such file"},
+      {"render " + hm + " --indirection " + (dir / "lone.png").string() + out, "sidecar"},
+      {"render " + hm + " --indirection " + map + " --height-scale 0.3" + out, "computed for height scale"},
+      {"render " + hm + " --wrap sideways" + out, "--wrap takes clamp or repeat"},
+      {"render " + spot.string() + " --indirection " + map + out, "apply to a height map"}};
+  for (const auto& [args, words] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
 }
 
 // The viewer in a real window (Xvfb) for a few frames: its screenshot is the headless render of

@@ -37,6 +37,7 @@ inline void writeFailureImages(const render::Frame& expected, const render::Fram
 struct AgreementBounds {
   std::size_t minHits = 0;  ///< pixels both hit: the view must show the scene
   double mask = 0, depthP95 = 0, normalP95 = 0, meanColour = 0, p99Colour = 0;
+  double medianColour = 256;  ///< the median must stay below this (levels of 255)
   bool sameCells = false;   ///< the cell channel must agree exactly
 };
 
@@ -65,17 +66,19 @@ inline int expectGpuBackendsAgree(const render::Scene& scene, std::span<const re
       ++compared;
       const std::string what = label + ", view " + std::to_string(v) + " on " + std::string(backendName(kind));
       std::printf("%s: %zu hits, mask %zu px, depth median %.2e p95 %.2e max %.2e (of the sample spacing), normal "
-                  "median %.4f p95 %.4f deg, colour mean %.3f p99 %.0f, cells differ %.2e\n",
+                  "median %.4f p95 %.4f deg, colour mean %.3f median %.0f p99 %.0f, cells differ %.2e\n",
                   what.c_str(), a.bothHit, a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees,
-                  a.p95Degrees, a.meanColor, a.p99Color, a.cellFraction);
+                  a.p95Degrees, a.meanColor, a.medianColor, a.p99Color, a.cellFraction);
       EXPECT_GT(a.bothHit, bounds.minHits) << what;
       EXPECT_LE(a.maskFraction, bounds.mask) << what;
       EXPECT_LE(a.p95Texels, bounds.depthP95) << what;
       EXPECT_LE(a.p95Degrees, bounds.normalP95) << what;
       EXPECT_LE(a.meanColor, bounds.meanColour) << what;
       EXPECT_LE(a.p99Color, bounds.p99Colour) << what;
+      EXPECT_LT(a.medianColor, bounds.medianColour) << what;
       if (bounds.sameCells) EXPECT_EQ(a.cellFraction, 0.0) << what;
-      if (a.maskFraction > bounds.mask || a.meanColor > bounds.meanColour || a.p99Color > bounds.p99Colour) {
+      if (a.maskFraction > bounds.mask || a.meanColor > bounds.meanColour || a.p99Color > bounds.p99Colour ||
+          a.medianColor >= bounds.medianColour) {
         std::string stem = label + "_view" + std::to_string(v) + "_" + std::string(backendName(kind));
         std::replace(stem.begin(), stem.end(), ' ', '_');
         writeFailureImages(expected, actual, sampleSpacing, stem);

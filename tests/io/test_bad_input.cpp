@@ -3,6 +3,7 @@
 // a silent wrong mesh; failed writes leave nothing behind. Robustness meshes load and say what is
 // unusual about them.
 #include <cstring>
+#include <sys/stat.h>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -194,6 +195,26 @@ TEST(BadMeshInput, WritingNeverLeavesPartialOutput) {
   writeBytes(dir / "keep.ply", "old");
   EXPECT_THROW(io::writeMesh(bad, dir / "keep.ply"), Error);
   EXPECT_EQ(test::readBytes(dir / "keep.ply"), "old");
+}
+
+TEST(BadOutputPath, AnAtomicWriteNeverReplacesAFolderOrADevice) {
+  // Writing is a rename over the target: over a named pipe (as over /dev/null) or a folder it
+  // would replace the node with a plain file. Such targets are refused and left as they were.
+  test::TempDir dir;
+  const auto pipe = dir / "pipe.png", folder = dir / "folder.png";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  std::filesystem::create_directory(folder);
+  const Image<std::uint8_t> image(4, 4, 3, 7);
+  for (const auto& target : {pipe, folder}) {
+    try {
+      io::writePng(image, target);
+      ADD_FAILURE() << "wrote over " << target;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(pipe));
+  EXPECT_TRUE(std::filesystem::is_directory(folder));
 }
 
 TEST(BadImageInput, MissingEmptyTruncatedAndGarbage) {

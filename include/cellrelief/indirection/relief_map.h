@@ -40,6 +40,37 @@ struct ReliefOptions {
   HeightChannel channel = HeightChannel::Auto;
 };
 
+/// One axis of a bilinear lookup between texel centres ((i + 0.5) / size): the two texel indices,
+/// the fraction between them, and its derivative d(fraction)/d(t) (0 where the clamped interpolant
+/// is constant). Shared by every map of a relief surface, and followed by the GPU shader.
+inline void bilinearAxis(float t, int size, bool repeat, int& i0, int& i1, float& fraction, float& slope) {
+  float x = t * float(size) - 0.5f;
+  slope = float(size);
+  if (repeat) {
+    if (!std::isfinite(x)) x = 0;
+    x -= float(size) * std::floor(x / float(size));  // into [0, size)
+    const float fl = std::floor(x);
+    i0 = std::min(int(fl), size - 1);
+    i1 = i0 + 1 == size ? 0 : i0 + 1;
+    fraction = x - fl;
+    return;
+  }
+  if (!(x > 0)) {  // also NaN
+    i0 = i1 = 0;
+    fraction = slope = 0;
+    return;
+  }
+  if (x >= float(size - 1)) {
+    i0 = i1 = size - 1;
+    fraction = slope = 0;
+    return;
+  }
+  const float fl = std::floor(x);
+  i0 = int(fl);
+  i1 = i0 + 1;
+  fraction = x - fl;
+}
+
 /// The relief surface R(u, v) over [0, 1]^2. Copyable value type.
 class ReliefMap {
  public:
@@ -116,35 +147,8 @@ class ReliefMap {
   };
   static float mix(float a, float b, float t) { return a + (b - a) * t; }
 
-  /// One axis: the two texel indices, the fraction, and d(fraction)/d(coordinate).
   void axis(float t, int size, int& i0, int& i1, float& f, float& s) const {
-    float x = t * float(size) - 0.5f;
-    s = float(size);
-    if (mWrap == Wrap::Repeat) {
-      if (!std::isfinite(x)) x = 0;
-      x -= float(size) * std::floor(x / float(size));  // into [0, size)
-      float fl = std::floor(x);
-      i0 = std::min(int(fl), size - 1);
-      i1 = i0 + 1 == size ? 0 : i0 + 1;
-      f = x - fl;
-      return;
-    }
-    if (!(x > 0)) {  // also NaN
-      i0 = i1 = 0;
-      f = 0;
-      s = 0;
-      return;
-    }
-    if (x >= float(size - 1)) {
-      i0 = i1 = size - 1;
-      f = 0;
-      s = 0;
-      return;
-    }
-    const float fl = std::floor(x);
-    i0 = int(fl);
-    i1 = i0 + 1;
-    f = x - fl;
+    bilinearAxis(t, size, mWrap == Wrap::Repeat, i0, i1, f, s);
   }
 
   Cell locate(float u, float v) const {

@@ -26,6 +26,11 @@ class AtomicFile {
         mTarget.has_parent_path() ? mTarget.parent_path() : std::filesystem::path(".");
     if (!std::filesystem::is_directory(dir))
       throw Error(ErrorKind::FileWrite, mTarget, "the folder does not exist");
+    // Renaming over a device (/dev/null) or a folder would replace it with a plain file.
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(mTarget, ec);
+    if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+      throw Error(ErrorKind::FileWrite, mTarget, "exists and is not a regular file; it is not replaced");
     mTemporary = dir / ("." + mTarget.stem().string() + ".tmp" + std::to_string(::getpid()) + "_" +
                         std::to_string(counter++) + mTarget.extension().string());
   }

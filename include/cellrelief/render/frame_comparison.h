@@ -24,7 +24,7 @@ struct FrameAgreement {
   double maskFraction = 0;      ///< maskDiffers / pixels
   double medianTexels = 0, p95Texels = 0, maxTexels = 0;  ///< depth error, in sample spacings
   double medianDegrees = 0, p95Degrees = 0;                ///< normal angle
-  double meanColor = 0, p99Color = 0;                      ///< largest channel difference
+  double meanColor = 0, medianColor = 0, p99Color = 0;     ///< largest channel difference
   double cellFraction = 0;  ///< of the pixels both hit, those whose hit cell differs
   double meanSteps = 0;     ///< mean |steps a - steps b| per pixel
 };
@@ -76,6 +76,7 @@ inline FrameAgreement compareFrames(const Frame& a, const Frame& b, double sampl
   r.medianDegrees = angleDistribution.median;
   r.p95Degrees = angleDistribution.p95;
   r.meanColor = colorDistribution.mean;
+  r.medianColor = colorDistribution.median;
   r.p99Color = colorDistribution.p99;
   r.cellFraction = double(cellsDiffer) / double(std::max<std::size_t>(1, r.bothHit));
   r.meanSteps = stepSum / double(std::max<std::size_t>(1, r.pixels));

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file scene.h
-/// What a backend renders: relief models, geometry textures and polycube-mapped meshes placed in
-/// world space, and the lights that shade them. The scene holds them by shared pointer so that one
+/// What a backend renders: relief models, geometry textures, polycube-mapped meshes and
+/// height-mapped squares (parallax occlusion mapping with an indirection map) placed in world space, and the lights that shade them. The scene holds them by shared pointer so that one
 /// converted model can be uploaded to several backends (the backend-switching tests render the
 /// same scene on each) without copies.
 #pragma once
@@ -11,6 +11,7 @@
 
 #include "cellrelief/core/aabb.h"
 #include "cellrelief/geotex/geotex_model.h"
+#include "cellrelief/indirection/relief_surface.h"
 #include "cellrelief/polycube/textured_mesh.h"
 #include "cellrelief/relief/relief_model.h"
 
@@ -27,6 +28,7 @@ struct Scene {
   std::vector<std::shared_ptr<const relief::ReliefModel>> models;
   std::vector<std::shared_ptr<const polycube::TexturedMesh>> polycubeMeshes;
   std::vector<std::shared_ptr<const geotex::GeoTexModel>> geotexModels;
+  std::vector<std::shared_ptr<const indirection::ReliefSurface>> reliefSurfaces;
   std::vector<DirectionalLight> lights = std::vector<DirectionalLight>(1);  ///< one default light
   Vec3f ambient{0.18f};
   Vec4f background{1.0f, 1.0f, 1.0f, 0.0f};  ///< RGBA of pixels that hit nothing
@@ -38,7 +40,8 @@ struct Scene {
     return scene;
   }
 
-  /// The union of the models' grids, the meshes' bounds and the charts' boxes (world space).
+  /// The union of the models' grids, the meshes' bounds, the charts' boxes and the relief
+  /// surfaces' slabs (world space).
   Aabbd boundsWS() const {
     Aabbd box;
     for (const auto& m : models) {
@@ -51,6 +54,11 @@ struct Scene {
       box.extend(Vec3d(b.max));
     }
     for (const auto& m : geotexModels) box.extend(m->boundsWS());
+    for (const auto& s : reliefSurfaces) {
+      const Aabbd b = s->boundsWS();
+      box.extend(b.min);
+      box.extend(b.max);
+    }
     return box;
   }
 };

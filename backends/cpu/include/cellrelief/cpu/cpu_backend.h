@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 /// @file cpu_backend.h
 /// The reference renderer and the embedded default: the traversal headers (trace/relief_tracer.h,
-/// trace/geotex_tracer.h, trace/polycube_tracer.h) run over TBB tiles of 16 x 16 pixels, in float as a GPU runs them. The GPU backends implement
+/// trace/geotex_tracer.h, trace/polycube_tracer.h, trace/parallax_tracer.h) run over TBB tiles of 16 x 16 pixels, in float as a GPU runs them. The GPU backends implement
 /// the same algorithm from the same constants, and their images are compared against this one.
 ///
 /// Shading is deliberately plain so that backends can match it exactly: the hit's color (the
-/// model's or chart's color map, a polycube mesh's T2, or a neutral grey) times ambient plus Lambert over the directional lights,
+/// model's or chart's color map, a polycube mesh's T2, a relief surface's colour map at
+/// (u, v) + I(u, v), or a neutral grey) times ambient plus Lambert over the directional lights,
 /// each gated by a shadow ray; optional mirror bounces mixed in by RenderOptions::reflectivity;
 /// display gamma 2.2. The normal buffer holds the shading normal turned towards the viewer.
 #pragma once
@@ -24,6 +25,7 @@
 
 #include "cellrelief/render/backend.h"
 #include "cellrelief/trace/geotex_tracer.h"
+#include "cellrelief/trace/parallax_tracer.h"
 #include "cellrelief/trace/polycube_tracer.h"
 #include "cellrelief/trace/relief_tracer.h"
 
@@ -46,9 +48,12 @@ class CpuBackend final : public render::Backend {
     for (const auto& m : scene.polycubeMeshes) meshTracers.push_back(std::make_unique<trace::PolycubeTracer>(m));
     std::vector<std::unique_ptr<trace::GeoTexTracer<float>>> chartTracers;
     for (const auto& m : scene.geotexModels) chartTracers.push_back(std::make_unique<trace::GeoTexTracer<float>>(*m));
+    std::vector<std::unique_ptr<trace::ParallaxTracer>> surfaceTracers;
+    for (const auto& s : scene.reliefSurfaces) surfaceTracers.push_back(std::make_unique<trace::ParallaxTracer>(*s));
     mScene = scene;
     mMeshTracers = std::move(meshTracers);
     mChartTracers = std::move(chartTracers);
+    mSurfaceTracers = std::move(surfaceTracers);
     mTraceOptions.reset();
     mTracers.clear();
   }
@@ -80,6 +85,7 @@ class CpuBackend final : public render::Backend {
     std::size_t bytes = 0;
     for (const auto& m : mScene.models) bytes += m->byteSize();
     for (const auto& m : mScene.geotexModels) bytes += m->byteSize();
+    for (const auto& s : mScene.reliefSurfaces) bytes += s->byteSize();
     for (const auto& t : mTracers) bytes += t->accelerationBytes();
     for (const auto& t : mChartTracers) bytes += t->bvh().nodeCount() * sizeof(BoxBvh<float>::Node);
     std::set<const polycube::PolycubeTexture*> textures;  // meshes may share one T2
@@ -92,17 +98,18 @@ class CpuBackend final : public render::Backend {
     return bytes;
   }
 
-  /// The nearest hit over the scene's models, geometry textures and polycube meshes (world
-  /// space), for secondary rays and tests. A mesh or chart hit fills hit.t, position and normal
-  /// (hit.cell stays -1).
+  /// The nearest hit over the scene's models, geometry textures, polycube meshes and relief
+  /// surfaces (world space), for secondary rays and tests. A mesh, chart or surface hit fills
+  /// hit.t, position and normal (hit.cell stays -1).
   struct SceneHit {
     Tracer::Hit hit;
     Vec3f base{0};  ///< the base colour, 0..1
     int model = -1;
     int mesh = -1;
     int geotex = -1;
+    int surface = -1;
     std::uint32_t steps = 0;  ///< over every model's search, hit or miss
-    bool valid() const { return model >= 0 || mesh >= 0 || geotex >= 0; }
+    bool valid() const { return model >= 0 || mesh >= 0 || geotex >= 0 || surface >= 0; }
   };
   /// `spread`: the ray's cone in world units per unit of distance, for texture filtering.
   SceneHit intersect(const Rayf& ray, float spread = 0) const {
@@ -140,6 +147,18 @@ class CpuBackend final : public render::Backend {
       best.base = mChartTracers[i]->colorAt(h);
       best.geotex = int(i);
     }
+    for (std::size_t i = 0; i < mSurfaceTracers.size(); ++i) {
+      const trace::ParallaxTracer& tracer = *mSurfaceTracers[i];
+      const trace::ParallaxHit h = tracer.intersect(clipped());
+      steps += h.samples;
+      if (!h.valid() || (best.valid() && h.t >= best.hit.t)) continue;
+      best = SceneHit{};
+      best.hit.t = h.t;
+      best.hit.position = ray.at(h.t);
+      best.hit.normal = tracer.normalAt(h);
+      best.base = tracer.colorAt(h);
+      best.surface = int(i);
+    }
     best.steps = steps;
     return best;
   }
@@ -149,6 +168,8 @@ class CpuBackend final : public render::Backend {
     for (const auto& t : mMeshTracers)
       if (t->occluded(ray)) return true;
     for (const auto& t : mChartTracers)
+      if (t->occluded(ray)) return true;
+    for (const auto& t : mSurfaceTracers)
       if (t->occluded(ray)) return true;
     return false;
   }
@@ -168,6 +189,7 @@ class CpuBackend final : public render::Backend {
   float surfaceOffset(const SceneHit& sh) const {
     if (sh.mesh >= 0) return mMeshTracers[std::size_t(sh.mesh)]->surfaceOffset();
     if (sh.geotex >= 0) return mChartTracers[std::size_t(sh.geotex)]->surfaceOffset();
+    if (sh.surface >= 0) return mSurfaceTracers[std::size_t(sh.surface)]->surfaceOffset();
     const relief::ReliefModel& m = *mScene.models[std::size_t(sh.model)];
     return float(double(trace::constants::kSurfaceOffsetSamples) * m.cellSizeWS / std::max(1, m.texels - 1));
   }
@@ -245,6 +267,7 @@ class CpuBackend final : public render::Backend {
   std::vector<std::unique_ptr<Tracer>> mTracers;
   std::vector<std::unique_ptr<trace::PolycubeTracer>> mMeshTracers;
   std::vector<std::unique_ptr<trace::GeoTexTracer<float>>> mChartTracers;
+  std::vector<std::unique_ptr<trace::ParallaxTracer>> mSurfaceTracers;
   std::optional<trace::TraceOptions> mTraceOptions;
   render::Frame mFrame;
 };

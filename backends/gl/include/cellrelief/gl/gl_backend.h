@@ -72,7 +72,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mContext->makeCurrent();
     releaseScene();
     gpu::checkSceneSupported(scene, "the OpenGL backend");
-    // Polycube meshes use storage binding 10, geometry textures 12; OpenGL 4.3 promises only 8
+    // Polycube meshes use storage binding 10, geometry textures 12, relief surfaces 13; OpenGL 4.3 promises only 8
     // (llvmpipe and the GPU drivers have more).
     const auto needBindings = [&](bool present, int bindings, const char* what) {
       if (present && mStorageBindings < bindings)
@@ -82,6 +82,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     };
     needBindings(!scene.polycubeMeshes.empty(), 11, "polycube meshes");
     needBindings(!scene.geotexModels.empty(), 13, "geometry textures");
+    needBindings(!scene.reliefSurfaces.empty(), 14, "relief surfaces");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
@@ -92,6 +93,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mBuffers[3] = storageBuffer(mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t));
     mBuffers[4] = storageBuffer(mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t));
     mBuffers[5] = storageBuffer(mGpu.geotex.words.data(), mGpu.geotex.words.size() * sizeof(std::uint32_t));
+    mBuffers[6] = storageBuffer(mGpu.parallax.words.data(), mGpu.parallax.words.size() * sizeof(std::uint32_t));
     mTextures[0] = atlasTexture(mGpu.distances, GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[1] = atlasTexture(mGpu.normalsOct, GL_RG16UI, GL_RG_INTEGER, GL_UNSIGNED_SHORT);
     mTextures[2] = atlasTexture(mGpu.normalsRgba, GL_RGBA8UI, GL_RGBA_INTEGER, GL_UNSIGNED_BYTE);
@@ -132,6 +134,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     for (int i = 0; i < 4; ++i) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(1 + i), mBuffers[i]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, mBuffers[4]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, mBuffers[5]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, mBuffers[6]);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, mFrameBuffer);
     for (int i = 0; i < 4; ++i) glBindTextureUnit(GLuint(6 + i), mTextures[i]);
     glBindTextureUnit(11, mTextures[4]);
@@ -431,7 +434,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
   GLint mStorageBindings = 0;  ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
-  GLuint mBuffers[6] = {0, 0, 0, 0, 0, 0};  ///< models, cells, hash, pyramid, polycube meshes, geometry textures
+  GLuint mBuffers[7] = {0, 0, 0, 0, 0, 0, 0};  ///< models, cells, hash, pyramid, polycube meshes, geometry textures, relief surfaces
   GLuint mTextures[5] = {0, 0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
   GLuint mCoverProgram = 0, mCoverBuffer = 0, mStencilFramebuffer = 0, mStencil = 0, mEmptyVertexArray = 0;

@@ -175,9 +175,10 @@ inline void checkSceneSupported(const render::Scene& scene, const char* backend)
 /// Whether the rasterized entry (rays started where the cells' cover is drawn) sees everything
 /// the compute entry does: when the eye lies outside every model's grid (with a margin), every
 /// ray enters the grids from outside, where the rasterized cells show it. A scene with polycube
-/// meshes or geometry textures always takes the compute entry (the cells' cover would hide them).
+/// meshes, geometry textures or relief surfaces always takes the compute entry (the cells' cover
+/// would hide them).
 inline bool rasterizedEntryServes(const render::Scene& scene, const render::Camera& camera) {
-  if (!scene.polycubeMeshes.empty() || !scene.geotexModels.empty()) return false;
+  if (!scene.polycubeMeshes.empty() || !scene.geotexModels.empty() || !scene.reliefSurfaces.empty()) return false;
   const Aabbd bounds = scene.boundsWS();
   const Vec3d margin(0.01 * bounds.diagonal());
   return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||

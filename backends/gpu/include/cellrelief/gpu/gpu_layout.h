@@ -33,6 +33,7 @@
 
 #include "cellrelief/core/error.h"
 #include "cellrelief/gpu/geotex_layout.h"
+#include "cellrelief/gpu/parallax_layout.h"
 #include "cellrelief/gpu/polycube_layout.h"
 #include "cellrelief/relief/relief_model.h"
 #include "cellrelief/render/scene.h"
@@ -103,6 +104,7 @@ struct SceneFeatures {
   bool pyramid = false;  ///< a pyramid is uploaded (skipping on, cells other than interior ones present)
   bool polycube = false;  ///< polycube-mapped meshes (polycube_layout.h)
   bool geotex = false;    ///< geometry-texture models (geotex_layout.h)
+  bool parallax = false;  ///< relief surfaces (parallax_layout.h)
 };
 
 /// A 2D array texture's texels, tightly packed [layer][row][column][channel].
@@ -125,6 +127,7 @@ struct GpuScene {
   Atlas<std::uint8_t> colors;             ///< RGBA8UI colors
   PolycubeGpu polycube;                   ///< polycube-mapped meshes and their T2s
   GeoTexGpu geotex;                       ///< geometry-texture models
+  ParallaxGpu parallax;                   ///< relief surfaces
   SceneFeatures features;
 
   /// Frees the atlases' texels once they are on the device; the layout (models, features) stays.
@@ -140,7 +143,7 @@ struct GpuScene {
     return models.size() * sizeof(ModelInfo) + cells.size() * sizeof(relief::CellRecord) +
            hashSlots.size() * sizeof(std::uint32_t) + pyramid.size() * sizeof(std::uint16_t) +
            distances.bytes() + normalsOct.bytes() + normalsRgba.bytes() + colors.bytes() + polycube.bytes() +
-           geotex.bytes();
+           geotex.bytes() + parallax.bytes();
   }
 };
 
@@ -346,6 +349,8 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
   out.features.polycube = !out.polycube.empty();
   out.geotex = packGeoTexModels(scene, limits.maxStorageBytes);
   out.features.geotex = !out.geotex.empty();
+  out.parallax = packReliefSurfaces(scene, limits.maxStorageBytes);
+  out.features.parallax = !out.parallax.empty();
   if (limits.maxTotalBytes > 0 && out.bytes() > limits.maxTotalBytes)
     throw Error(ErrorKind::ResourceLimit, "the scene needs " + detail::mib(out.bytes()) +
                                               " on the device, beyond its " + detail::mib(limits.maxTotalBytes));

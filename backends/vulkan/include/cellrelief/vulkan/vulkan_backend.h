@@ -136,7 +136,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     const Api& vk = mContext->api();
     const VkDevice device = mContext->device();
     // One set: 0 the frame's uniforms, 1-4 the scene's tables, 5 the frame, 6-9 the map atlases,
-    // 10 the polycube meshes' words, 11 their T2, 12 the geometry textures' words.
+    // 10 the polycube meshes' words, 11 their T2, 12 the geometry textures' words, 13 the relief
+    // surfaces' words.
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     const VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     bindings.push_back({0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, stages, nullptr});
@@ -146,6 +147,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     bindings.push_back({10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
     bindings.push_back({11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, stages, nullptr});
     bindings.push_back({12, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
+    bindings.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr});
     auto setInfo = make<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
     setInfo.bindingCount = std::uint32_t(bindings.size());
     setInfo.pBindings = bindings.data();
@@ -158,7 +160,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     layoutInfo.pPushConstantRanges = &cover;
     check(vk.vkCreatePipelineLayout(device, &layoutInfo, nullptr, &mPipelineLayout), "vkCreatePipelineLayout");
     const VkDescriptorPoolSize sizes[3] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 7},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 8},
                                            {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 5}};
     auto poolInfo = make<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
     poolInfo.maxSets = 1;
@@ -240,7 +242,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
         {mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t)},
         {mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t)},
         {mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t)},
-        {mGpu.geotex.words.data(), mGpu.geotex.words.size() * sizeof(std::uint32_t)}};
+        {mGpu.geotex.words.data(), mGpu.geotex.words.size() * sizeof(std::uint32_t)},
+        {mGpu.parallax.words.data(), mGpu.parallax.words.size() * sizeof(std::uint32_t)}};
     std::size_t offsets[kBufferCount], total = 0;
     for (int i = 0; i < kBufferCount; ++i) {
       offsets[i] = total;
@@ -365,6 +368,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     write(10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tables[4], nullptr);
     write(11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, nullptr, &maps[4]);
     write(12, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tables[5], nullptr);
+    write(13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &tables[6], nullptr);
     mContext->api().vkUpdateDescriptorSets(mContext->device(), std::uint32_t(writes.size()), writes.data(), 0, nullptr);
   }
 
@@ -702,8 +706,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   render::Scene mScene;
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
-  static constexpr int kBufferCount = 6;
-  Buffer mBuffers[kBufferCount];  ///< models, cells, hash, pyramid, polycube meshes, geometry textures
+  static constexpr int kBufferCount = 7;
+  Buffer mBuffers[kBufferCount];  ///< models, cells, hash, pyramid, polycube meshes, geometry textures, relief surfaces
   Image mAtlases[5];   ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   Image mPlaceholder, mStencil;
   Buffer mFrame, mReadback, mParams;
