@@ -1765,9 +1765,10 @@ vec2 pxIndirection(int s, vec2 uv) {
 }
 
 // ParallaxTracer::clipToSlab
-bool pxClipToSlab(vec3 o, vec3 d, float top, inout float t0, inout float t1, out int entry) {
+bool pxClipToSlab(vec3 o, vec3 d, float top, inout float t0, inout float t1, out int entry, out bool floorExit) {
   const vec3 lo = vec3(0.0), hi = vec3(1.0, 1.0, top);
   entry = -1;
+  floorExit = false;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) {
       if (!(o[a] >= lo[a] && o[a] <= hi[a])) return false;
@@ -1785,7 +1786,12 @@ bool pxClipToSlab(vec3 o, vec3 d, float top, inout float t0, inout float t1, out
       t0 = ta;
       entry = a == 2 ? (towardsLow ? -1 : 4) : 2 * a + (towardsLow ? 1 : 0);
     }
-    t1 = min(t1, tb);
+    if (tb < t1) {
+      t1 = tb;
+      floorExit = a == 2 && towardsLow;
+    } else if (tb == t1 && a == 2 && towardsLow) {
+      floorExit = true;
+    }
   }
   return t0 <= t1;
 }
@@ -1805,7 +1811,8 @@ SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, inout uint s
   const vec3 d = vec3(dot(rd, rowU), dot(rd, rowV), dot(rd, rowW));
   float t0 = tmin, t1 = tmax;
   int entry;
-  if (!pxClipToSlab(o, d, pxInfoFloat(s, CR_PX_TOP), t0, t1, entry)) return hit;
+  bool floorExit;
+  if (!pxClipToSlab(o, d, pxInfoFloat(s, CR_PX_TOP), t0, t1, entry, floorExit)) return hit;
   float gapA = pxGap(s, o, d, t0, samples);
   if (gapA <= 0.0) {
     hit.t = t0;
@@ -1820,7 +1827,8 @@ SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, inout uint s
   float a = t0;
   for (int k = 1; k <= steps; ++k) {
     const float b = t0 + span * float(k) / float(steps);
-    const float gapB = pxGap(s, o, d, b, samples);
+    float gapB = pxGap(s, o, d, b, samples);
+    if (k == steps && floorExit) gapB = min(gapB, 0.0);
     if (gapB > 0.0) {
       a = b;
       gapA = gapB;

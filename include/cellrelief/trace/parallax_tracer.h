@@ -110,7 +110,8 @@ class ParallaxTracer {
     const Vec3f o = localPoint(ray.origin), d = localDirection(ray.direction);
     float t0 = ray.tmin, t1 = ray.tmax;
     int entry = -1;  // the face the ray enters the slab through (-1: it starts inside, or the top)
-    if (!clipToSlab(o, d, t0, t1, entry)) return hit;
+    bool exitsThroughFloor = false;
+    if (!clipToSlab(o, d, t0, t1, entry, exitsThroughFloor)) return hit;
     const indirection::ReliefMap& relief = mSurface->relief;
     const auto gap = [&](float t) {  // height above the relief, <= 0 below it
       ++hit.samples;
@@ -130,7 +131,9 @@ class ParallaxTracer {
     float a = t0;
     for (int k = 1; k <= steps; ++k) {
       const float b = t0 + span * float(k) / float(steps);
-      const float gapB = gap(b);
+      // The floor is at or below the relief everywhere (heights are >= 0): a ray that leaves
+      // through it has met the relief, even where rounding puts its last sample a hair above.
+      const float gapB = k == steps && exitsThroughFloor ? std::min(gap(b), 0.0f) : gap(b);
       if (gapB > 0) {
         a = b;
         gapA = gapB;
@@ -207,10 +210,12 @@ class ParallaxTracer {
   }
 
   /// Clips [t0, t1] to the slab (the slab test of core/aabb.h); `entry`: the face crossed at t0
-  /// when the ray enters from outside through a wall or the bottom, else kReliefFace.
-  bool clipToSlab(const Vec3f& o, const Vec3f& d, float& t0, float& t1, int& entry) const {
+  /// when the ray enters from outside through a wall or the bottom, else kReliefFace; `floorExit`:
+  /// whether t1 is where the ray leaves through the bottom.
+  bool clipToSlab(const Vec3f& o, const Vec3f& d, float& t0, float& t1, int& entry, bool& floorExit) const {
     const float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {1.0f, 1.0f, mTop};
     entry = kReliefFace;
+    floorExit = false;
     for (int a = 0; a < 3; ++a) {
       if (d[a] == 0.0f) {
         if (!(o[a] >= lo[a] && o[a] <= hi[a])) return false;
@@ -224,7 +229,12 @@ class ParallaxTracer {
         t0 = ta;
         entry = a == 2 ? (towardsLow ? kReliefFace : kFaceBottom) : 2 * a + (towardsLow ? 1 : 0);
       }
-      t1 = std::min(t1, tb);
+      if (tb < t1) {
+        t1 = tb;
+        floorExit = a == 2 && towardsLow;
+      } else if (tb == t1 && a == 2 && towardsLow) {
+        floorExit = true;  // through an edge of the floor
+      }
     }
     return t0 <= t1;
   }
