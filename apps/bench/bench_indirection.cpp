@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
       for (const auto& entry : table) {
         int iterations = 0;
         const auto t0 = std::chrono::steady_clock::now();
-        const indirection::Grid grid = entry.run(relief, g, {}, iterations);
+        const indirection::Grid grid = entry.run(relief, {.gridSize = g}, {}, iterations);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const indirection::Distortion cell = indirection::measureDistortion(grid, relief);
         rows.push_back({stem, entry.name, s, cell.l2Stretch,

@@ -64,17 +64,7 @@ const OptimizerEntry& findOptimizer(const std::string& name) {
 
 Grid optimize(const std::string& name, const ReliefMap& relief, int g, SpringForce force,
               const ProgressCallback& progress, int& iterations) {
-  if (force == SpringForce::Tangent && name.rfind("springs", 0) == 0) {  // an option of the springs
-    SpringOptions o;
-    o.gridSize = g;
-    o.force = force;
-    if (name == "springs-chord") o.minSteps = o.maxSteps = 1;
-    SpringReport r;
-    Grid grid = relaxSprings(relief, o, progress, &r);
-    iterations = r.iterations;
-    return grid;
-  }
-  return findOptimizer(name).run(relief, g, progress, iterations);
+  return findOptimizer(name).run(relief, {.gridSize = g, .springForce = force}, progress, iterations);
 }
 
 ReliefMap loadRelief(const std::string& path, float heightScale, Wrap wrap) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cellrelief/indirection/distortion.h>
+#include <cellrelief/indirection/optimizer_table.h>
 #include <cellrelief/indirection/springs.h>
 
 #include "indirection/test_support_indirection.h"
@@ -143,6 +144,40 @@ TEST(Springs, ResultDoesNotDependOnTheThreadCount) {
   }
   EXPECT_EQ(a.u(), b.u());
   EXPECT_EQ(a.v(), b.v());
+}
+
+TEST(Springs, AReusedSolverGivesWhatTheFunctionGives) {
+  const ReliefMap relief = test::noiseRelief(64, 0.2f, 6, 11), other = test::noiseRelief(64, 0.3f, 5, 3);
+  SpringOptions o;
+  o.gridSize = 32;
+  SpringSolver solver(o);
+  const Grid first = solver.solve(relief);
+  const Grid between = solver.solve(other);  // the buffers now hold another map's state
+  const Grid again = solver.solve(relief);
+  const Grid once = relaxSprings(relief, o);
+  EXPECT_EQ(first.u(), once.u());
+  EXPECT_EQ(first.v(), once.v());
+  EXPECT_EQ(again.u(), once.u());
+  EXPECT_EQ(again.v(), once.v());
+  EXPECT_NE(between.u(), once.u());
+}
+
+TEST(OptimizerTable, EachEntryTakesTheSettingsThatApplyToIt) {
+  const ReliefMap relief = test::noiseRelief(64, 0.2f, 6, 11);
+  const auto table = builtinOptimizers();
+  int iterations = 0;
+  for (const char* name : {"springs", "springs-chord"}) {
+    const OptimizerEntry& springs = findOptimizer(table, name);
+    const Grid inPlane = springs.run(relief, {.gridSize = 16}, {}, iterations);
+    const Grid tangent = springs.run(relief, {.gridSize = 16, .springForce = SpringForce::Tangent}, {}, iterations);
+    EXPECT_EQ(inPlane.g(), 16);
+    EXPECT_NE(inPlane.u(), tangent.u()) << name << ": the spring force did not reach the optimizer";
+  }
+  // Gauss-Newton has no spring force: the setting changes nothing.
+  const OptimizerEntry& gaussNewton = findOptimizer(table, "gauss-newton");
+  EXPECT_EQ(gaussNewton.run(relief, {.gridSize = 16}, {}, iterations).u(),
+            gaussNewton.run(relief, {.gridSize = 16, .springForce = SpringForce::Tangent}, {}, iterations).u());
+  EXPECT_THROW(findOptimizer(table, "simulated-annealing"), Error);
 }
 
 }  // namespace

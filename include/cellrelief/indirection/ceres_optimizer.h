@@ -275,9 +275,10 @@ inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options =
 /// Levenberg-Marquardt with sparse Cholesky (the plain Ceres solve, fewer iterations).
 inline std::vector<OptimizerEntry> ceresOptimizers() {
   auto entry = [](bool lm) {
-    return [lm](const ReliefMap& relief, int g, const ProgressCallback& progress, int& iterations) {
+    return [lm](const ReliefMap& relief, const OptimizerSettings& settings, const ProgressCallback& progress,
+                int& iterations) {
       CeresOptions o;
-      o.gridSize = g;
+      o.gridSize = settings.gridSize;
       if (lm) {
         o.lbfgs = false;
         o.maxIterations = 15;

@@ -16,20 +16,29 @@
 
 namespace cellrelief::indirection {
 
-/// One optimizer: its name, what it is in a line, and how to run it at resolution g (the number of
-/// iterations it took goes to `iterations`).
+/// What a caller sets for any optimizer of the table: the resolution, and the options only some
+/// optimizers read (each entry takes what applies to it and ignores the rest).
+struct OptimizerSettings {
+  int gridSize = 256;
+  SpringForce springForce = SpringForce::InPlane;  ///< the springs' force (springs, springs-chord)
+};
+
+/// One optimizer: its name, what it is in a line, and how to run it (the number of iterations it
+/// took goes to `iterations`).
 struct OptimizerEntry {
   std::string name, summary;
-  std::function<Grid(const ReliefMap&, int g, const ProgressCallback&, int& iterations)> run;
+  std::function<Grid(const ReliefMap&, const OptimizerSettings&, const ProgressCallback&, int& iterations)> run;
 };
 
 /// Gauss-Newton (the default: the fastest to within 1% of the lowest distortion, see
 /// docs/indirection.md), the paper's springs, and the springs with lengths between the vertices.
 inline std::vector<OptimizerEntry> builtinOptimizers() {
   auto springs = [](bool chord) {
-    return [chord](const ReliefMap& relief, int g, const ProgressCallback& progress, int& iterations) {
+    return [chord](const ReliefMap& relief, const OptimizerSettings& settings, const ProgressCallback& progress,
+                   int& iterations) {
       SpringOptions o;
-      o.gridSize = g;
+      o.gridSize = settings.gridSize;
+      o.force = settings.springForce;
       if (chord) o.minSteps = o.maxSteps = 1;  // corner-to-corner lengths
       SpringReport r;
       Grid grid = relaxSprings(relief, o, progress, &r);
@@ -40,9 +49,10 @@ inline std::vector<OptimizerEntry> builtinOptimizers() {
   return {
       {"gauss-newton",
        "the conformal energy on the relief's averaged metric, damped Gauss-Newton with multigrid",
-       [](const ReliefMap& relief, int g, const ProgressCallback& progress, int& iterations) {
+       [](const ReliefMap& relief, const OptimizerSettings& settings, const ProgressCallback& progress,
+          int& iterations) {
          GaussNewtonOptions o;
-         o.gridSize = g;
+         o.gridSize = settings.gridSize;
          GaussNewtonReport r;
          Grid grid = optimizeGaussNewton(relief, o, progress, &r);
          iterations = r.iterations;

@@ -38,6 +38,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <vector>
 
 #include "cellrelief/core/parallel.h"
@@ -90,9 +92,9 @@ namespace detail {
 /// The arrays of one level, kept between iterations.
 class SpringLevel {
  public:
-  SpringLevel(const ReliefMap& relief, const SpringOptions& o, Grid& grid)
-      : mRelief(relief), mOptions(o), mGrid(grid), mG(grid.g()), mSide(grid.g() + 1) {
-    const std::size_t n = grid.vertexCount();
+  /// The buffers of a level of g x g cells; bind() says which relief and grid a step works on.
+  SpringLevel(const SpringOptions& o, int g) : mOptions(o), mG(g), mSide(g + 1) {
+    const std::size_t n = std::size_t(mSide) * std::size_t(mSide);
     mHeight.resize(n);
     mSlopeX.resize(n);
     mSlopeY.resize(n);
@@ -110,7 +112,16 @@ class SpringLevel {
     mRowForce.assign(mSide, 0.0);
     mRowBad.assign(mSide, 0);
     for (int s = 0; s < 4; ++s) mRest[s] = springRestLength(kDi[s], kDj[s], mG, o.restScale);
-    mInvStep = 1.0f / (o.integrationStepTexels * relief.texelSize());
+  }
+
+  /// The relief and the grid (of this level's size) that step() relaxes; both must outlive the steps.
+  void bind(const ReliefMap& relief, Grid& grid) {
+    if (grid.g() != mG)
+      throw Error(ErrorKind::InvalidArgument, "springs: a level of g = " + std::to_string(mG) +
+                                                  " bound to a grid of g = " + std::to_string(grid.g()));
+    mRelief = &relief;
+    mGrid = &grid;
+    mInvStep = 1.0f / (mOptions.integrationStepTexels * relief.texelSize());
   }
 
   /// The four forward springs of a vertex: right, up, up-right, up-left.
@@ -119,15 +130,15 @@ class SpringLevel {
   /// One relaxation step; returns the total in-plane force before the step.
   double step() {
     const int side = mSide, g = mG;
-    const float* u = mGrid.u().data();
-    const float* v = mGrid.v().data();
+    const float* u = mGrid->u().data();
+    const float* v = mGrid->v().data();
     // Pass 1: heights at the vertices (the snap) and the smallest triangle height of each cell.
     parallelForRange(0, std::size_t(side), [&](std::size_t rowBegin, std::size_t rowEnd) {
       for (int j = int(rowBegin); j != int(rowEnd); ++j) {
         for (int i = 0; i < side; ++i) {
           const std::size_t k = std::size_t(j) * side + i;
-          mHeight[k] = mRelief.heightAt(u[k], v[k]);
-          const Vec2f grad = mRelief.gradientAt(u[k], v[k]);
+          mHeight[k] = mRelief->heightAt(u[k], v[k]);
+          const Vec2f grad = mRelief->gradientAt(u[k], v[k]);
           mSlopeX[k] = grad.x;
           mSlopeY[k] = grad.y;
         }
@@ -188,8 +199,8 @@ class SpringLevel {
         }, 4);
     double total = 0;
     for (double f : mRowForce) total += f;
-    mGrid.u().swap(mNewU);
-    mGrid.v().swap(mNewV);
+    mGrid->u().swap(mNewU);
+    mGrid->v().swap(mNewV);
     undoCollapsingSteps();
     return total;
   }
@@ -206,8 +217,8 @@ class SpringLevel {
   void undoCollapsingSteps() {
     const int g = mG, side = mSide;
     const float minArea2 = kMinAreaRatio / (float(g) * float(g));
-    const float* u = mGrid.u().data();  // the new positions (swapped in)
-    const float* v = mGrid.v().data();
+    const float* u = mGrid->u().data();  // the new positions (swapped in)
+    const float* v = mGrid->v().data();
     const float* ou = mNewU.data();     // the old ones
     const float* ov = mNewV.data();
     mBad.assign(std::size_t(g) * g, 0);
@@ -242,8 +253,8 @@ class SpringLevel {
                 if (ci >= 0 && ci < g && cj >= 0 && cj < g && mBad[std::size_t(cj) * g + ci]) bad = true;
             if (!bad) continue;
             const std::size_t k = std::size_t(j) * side + i;
-            mGrid.u()[k] = ou[k];
-            mGrid.v()[k] = ov[k];
+            mGrid->u()[k] = ou[k];
+            mGrid->v()[k] = ov[k];
           }
       }, 4);
     }
@@ -253,9 +264,9 @@ class SpringLevel {
   float cellMinHeight(int i, int j) const {
     float h = HUGE_VALF;
     for (const auto& tri : kCellTriangles) {
-      const Vec2f p0 = mGrid.vertex(i + tri[0][0], j + tri[0][1]);
-      const Vec2f p1 = mGrid.vertex(i + tri[1][0], j + tri[1][1]);
-      const Vec2f p2 = mGrid.vertex(i + tri[2][0], j + tri[2][1]);
+      const Vec2f p0 = mGrid->vertex(i + tri[0][0], j + tri[0][1]);
+      const Vec2f p1 = mGrid->vertex(i + tri[1][0], j + tri[1][1]);
+      const Vec2f p2 = mGrid->vertex(i + tri[2][0], j + tri[2][1]);
       const float a2 = signedArea2(p0, p1, p2);
       const float e = std::max({glm::length(p1 - p0), glm::length(p2 - p1), glm::length(p0 - p2)});
       h = std::min(h, e > 0 ? std::max(a2, 0.0f) / e : 0.0f);
@@ -296,7 +307,7 @@ class SpringLevel {
     float length = 0, pz = za;
     for (int step = 1; step < n; ++step) {
       const float t = float(step) * inv;
-      const float z = mRelief.heightAt(ua + t * du, va + t * dv);
+      const float z = mRelief->heightAt(ua + t * du, va + t * dv);
       length += std::sqrt(stepSq + (z - pz) * (z - pz));
       pz = z;
     }
@@ -329,9 +340,9 @@ class SpringLevel {
     mStiffnessB[s][a] = k * (inPlane + vertical * sb) * (inPlane + vertical * sb);
   }
 
-  const ReliefMap& mRelief;
-  const SpringOptions& mOptions;
-  Grid& mGrid;
+  SpringOptions mOptions;
+  const ReliefMap* mRelief = nullptr;
+  Grid* mGrid = nullptr;
   int mG, mSide;
   float mRest[4];
   float mInvStep;
@@ -360,43 +371,69 @@ inline void checkSpringOptions(const SpringOptions& o) {
 
 }  // namespace detail
 
-/// Relaxes the spring network multi-scale and returns the map M at resolution options.gridSize.
-/// Throws Error for options out of range. `progress` (optional) sees the grid every
-/// `reportEvery` iterations and at the end of each level.
-inline Grid relaxSprings(const ReliefMap& relief, const SpringOptions& options = {},
-                         const ProgressCallback& progress = {}, SpringReport* report = nullptr) {
-  detail::checkSpringOptions(options);
-  OptimizerClock clock;
-  SpringReport rep;
-  const std::vector<int> levels = multiScaleSchedule(options.gridSize, options.startGridSize);
-  Grid grid(levels.front());
-  for (std::size_t l = 0; l < levels.size(); ++l) {
-    if (l > 0) grid = grid.resampled(levels[l]);
-    const bool last = l + 1 == levels.size();
-    detail::SpringLevel level(relief, options, grid);
+/// The spring network as a stateful solver (geometry-central's function + solver pair): each
+/// level's buffers stay allocated between solves, so repeated runs at one set of options (a map
+/// re-solved after an edit, maps of one size in a batch) allocate nothing after the first.
+class SpringSolver {
+ public:
+  /// Throws Error for options out of range.
+  explicit SpringSolver(SpringOptions options = {}) : mOptions(std::move(options)) {
+    detail::checkSpringOptions(mOptions);
+  }
+  const SpringOptions& options() const { return mOptions; }
+
+  /// Relaxes the network multi-scale from the identity and returns M at options().gridSize.
+  /// `progress` (optional) sees the grid every `reportEvery` iterations and at the end of each level.
+  Grid solve(const ReliefMap& relief, const ProgressCallback& progress = {}, SpringReport* report = nullptr) {
+    OptimizerClock clock;
+    SpringReport rep;
+    const std::vector<int> levels = multiScaleSchedule(mOptions.gridSize, mOptions.startGridSize);
+    Grid grid(levels.front());
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      if (l > 0) grid = grid.resampled(levels[l]);
+      const bool last = l + 1 == levels.size();
+      detail::SpringLevel& level = levelOf(grid.g());
+      level.bind(relief, grid);
+      relaxLevel(level, grid, last, clock, progress, rep);
+    }
+    rep.seconds = clock.seconds();
+    if (report) *report = rep;
+    return grid;
+  }
+
+ private:
+  detail::SpringLevel& levelOf(int g) {
+    auto it = mLevels.find(g);
+    if (it == mLevels.end()) it = mLevels.emplace(g, std::make_unique<detail::SpringLevel>(mOptions, g)).first;
+    return *it->second;
+  }
+
+  /// Steps one level until its force is negligible or stops changing.
+  void relaxLevel(detail::SpringLevel& level, const Grid& grid, bool last, OptimizerClock& clock,
+                  const ProgressCallback& progress, SpringReport& rep) const {
     double previous = -1, force = 0;
     int calm = 0, it = 0;
     bool converged = false;
-    for (; it < options.maxIterations; ++it) {
+    for (; it < mOptions.maxIterations; ++it) {
       force = level.step();
       if (!std::isfinite(force))
         throw Error(ErrorKind::InvalidInput, "springs: the force became non-finite at g = " +
                                                  std::to_string(grid.g()));
       const double nVerts = double(grid.vertexCount());
-      if (force <= 1e-9 * nVerts * options.stiffness) {
+      if (force <= 1e-9 * nVerts * mOptions.stiffness) {
         converged = true;
         ++it;
         break;
       }
-      const double tolerance = last ? options.tolerance : options.coarseTolerance;
+      const double tolerance = last ? mOptions.tolerance : mOptions.coarseTolerance;
       calm = previous >= 0 && std::abs(force - previous) < tolerance * force ? calm + 1 : 0;
       previous = force;
-      if (calm >= options.patience) {
+      if (calm >= mOptions.patience) {
         converged = true;
         ++it;
         break;
       }
-      if (progress && (it + 1) % options.reportEvery == 0)
+      if (progress && (it + 1) % mOptions.reportEvery == 0)
         clock.excluding(progress, grid, Progress{grid.g(), it + 1, clock.seconds(), force, last, false});
     }
     rep.iterations += it;
@@ -407,9 +444,16 @@ inline Grid relaxSprings(const ReliefMap& relief, const SpringOptions& options =
     }
     clock.excluding(progress, grid, Progress{grid.g(), it, clock.seconds(), force, last, true});
   }
-  rep.seconds = clock.seconds();
-  if (report) *report = rep;
-  return grid;
+
+  SpringOptions mOptions;
+  std::map<int, std::unique_ptr<detail::SpringLevel>> mLevels;
+};
+
+/// Relaxes the spring network multi-scale and returns the map M at resolution options.gridSize
+/// (a SpringSolver used once). Throws Error for options out of range.
+inline Grid relaxSprings(const ReliefMap& relief, const SpringOptions& options = {},
+                         const ProgressCallback& progress = {}, SpringReport* report = nullptr) {
+  return SpringSolver(options).solve(relief, progress, report);
 }
 
 }  // namespace cellrelief::indirection
