@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file command_render.cpp
-/// `cellrelief render <model.crm | mesh | polycube folder> -o out.png`: ray casts a relief model,
-/// or a mesh textured through its polycube map, on a backend and writes the color image, and on
-/// request the depth and normal buffers. A mesh is converted at default settings first, so any
+/// `cellrelief render <model.crm | mesh | polycube folder | heightmap> -o out.png`: ray casts a
+/// relief model, a mesh textured through its polycube map, or a height map with its indirection
+/// map (parallax occlusion mapping), on a backend and writes the color image, and on request the
+/// depth and normal buffers. A mesh is converted at default settings first, so any
 /// mesh can be looked at in one command.
 #include <chrono>
 #include <cstdio>
@@ -259,7 +260,8 @@ void renderModelPicture(std::shared_ptr<const relief::ReliefModel> model,
 }
 
 Command addRenderCommand(CLI::App& app) {
-  auto* cmd = app.add_subcommand("render", "Ray cast a relief model (or a mesh, converted first) to a PNG");
+  auto* cmd = app.add_subcommand(
+      "render", "Ray cast a relief model (or a mesh, converted first, or a height map by parallax occlusion mapping) to a PNG");
   auto o = std::make_shared<RenderCli>();
   cmd->add_option("model", o->input,
                   "Relief model (.crm), geometry textures (.cgt), mesh (.obj .ply .off .stl), a folder "
