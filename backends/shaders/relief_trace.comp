@@ -1802,8 +1802,8 @@ float pxGap(int s, vec3 o, vec3 d, float t, inout uint samples) {
   return p.z - pxHeight(s, p.xy);
 }
 
-// ParallaxTracer::intersect over [tmin, tmax].
-SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, inout uint samples) {
+// ParallaxTracer::march over [tmin, tmax]: intersect, or with anyHit occluded.
+SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, bool anyHit, inout uint samples) {
   SurfaceHit hit = SurfaceHit(CR_INF, vec2(0.0), -1);
   const vec3 r = ro - pxInfoVec3(s, CR_PX_ORIGIN);
   const vec3 rowU = pxInfoVec3(s, CR_PX_ROW_U), rowV = pxInfoVec3(s, CR_PX_ROW_V), rowW = pxInfoVec3(s, CR_PX_ROW_W);
@@ -1834,6 +1834,10 @@ SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, inout uint s
       gapA = gapB;
       continue;
     }
+    if (anyHit) {
+      hit.t = b;
+      return hit;
+    }
     float lo = a, hi = b, gapHi = gapB;
     for (int i = 0; i < CR_PX_REFINE_STEPS; ++i) {
       const float m = 0.5 * (lo + hi);
@@ -1858,7 +1862,7 @@ int pxTraceSurfaces(vec3 o, vec3 d, float tmax, out SurfaceHit best, inout uint 
   best = SurfaceHit(tmax, vec2(0.0), -1);
   int found = -1;
   for (int s = 0; s < pxSurfaceCount(); ++s) {
-    const SurfaceHit h = pxTrace(s, o, d, 0.0, best.t, samples);
+    const SurfaceHit h = pxTrace(s, o, d, 0.0, best.t, false, samples);
     if (!isinf(h.t) && h.t < best.t) {
       best = h;
       found = s;
@@ -1870,7 +1874,7 @@ int pxTraceSurfaces(vec3 o, vec3 d, float tmax, out SurfaceHit best, inout uint 
 bool pxOccluded(vec3 o, vec3 d) {
   uint samples = 0u;
   for (int s = 0; s < pxSurfaceCount(); ++s)
-    if (!isinf(pxTrace(s, o, d, 0.0, CR_INF, samples).t)) return true;
+    if (!isinf(pxTrace(s, o, d, 0.0, CR_INF, true, samples).t)) return true;
   return false;
 }
 

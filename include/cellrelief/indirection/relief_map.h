@@ -93,6 +93,7 @@ class ReliefMap {
       if (!std::isfinite(h))
         throw Error(ErrorKind::InvalidInput, "relief map: a height is not a finite number");
       h *= heightScale;  // stored pre-scaled: one multiply less per evaluation
+      mMax = std::max(mMax, h);
     }
   }
 
@@ -102,6 +103,8 @@ class ReliefMap {
   float heightScale() const { return mScale; }
   /// The larger texel size in texture units, 1 / max(width, height).
   float texelSize() const { return 1.0f / float(std::max(mWidth, mHeight)); }
+  /// The highest scaled height (0 for an empty map).
+  float maxHeight() const { return mMax; }
   /// The scaled height of texel (x, y).
   float texel(int x, int y) const { return mH[std::size_t(y) * mWidth + x]; }
   bool isFlat() const {
@@ -168,6 +171,7 @@ class ReliefMap {
   int mWidth = 0, mHeight = 0;
   Wrap mWrap = Wrap::Clamp;
   float mScale = 0;
+  float mMax = 0;
   std::vector<float> mH;
 };
 
@@ -188,10 +192,10 @@ inline std::vector<float> heightsOf(const io::ImageFile& file, HeightChannel cha
   return {data.begin(), data.end()};
 }
 
-/// Reads a relief map from a height-map image. Throws Error naming the file when it cannot be read,
-/// is smaller than 2x2, or is constant (no relief: nothing to parameterize).
-inline ReliefMap loadReliefMap(const std::filesystem::path& path, const ReliefOptions& options = {}) {
-  const io::ImageFile file = io::readImage(path);
+/// The relief map of an image already read from `path` (named in errors). Throws Error when it is
+/// smaller than 2x2 or constant (no relief: nothing to parameterize).
+inline ReliefMap reliefMapOf(const io::ImageFile& file, const std::filesystem::path& path,
+                             const ReliefOptions& options = {}) {
   if (file.width() < 2 || file.height() < 2)
     throw Error(ErrorKind::InvalidInput, path,
                 "height map of " + std::to_string(file.width()) + "x" +
@@ -207,6 +211,12 @@ inline ReliefMap loadReliefMap(const std::filesystem::path& path, const ReliefOp
   } catch (const Error& e) {
     throw Error(e.kind(), path, e.problem());
   }
+}
+
+/// Reads a relief map from a height-map image. Throws Error naming the file when it cannot be read,
+/// is smaller than 2x2, or is constant.
+inline ReliefMap loadReliefMap(const std::filesystem::path& path, const ReliefOptions& options = {}) {
+  return reliefMapOf(io::readImage(path), path, options);
 }
 
 /// A copy of `map` box-filtered down to at most `maxSize` texels a side (tests and previews).

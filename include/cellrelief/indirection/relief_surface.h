@@ -42,18 +42,10 @@ struct ReliefSurface {
   Vec3f normalWS() const { return glm::normalize(glm::cross(uAxisWS, vAxisWS)); }
   bool hasIndirection() const { return !indirection.isEmpty(); }
 
-  /// The highest height over the map (tile widths): the top of the slab a ray marches through.
-  float maxHeight() const {
-    float top = 0;
-    for (int y = 0; y < relief.height(); ++y)
-      for (int x = 0; x < relief.width(); ++x) top = std::max(top, relief.texel(x, y));
-    return top;
-  }
-
   /// The slab over the square in world space.
   Aabbd boundsWS() const {
     Aabbd box;
-    const Vec3f up = normalWS() * (maxHeight() * sideWS());
+    const Vec3f up = normalWS() * (relief.maxHeight() * sideWS());
     for (int corner = 0; corner < 8; ++corner)
       box.extend(Vec3d(originWS + float(corner & 1) * uAxisWS + float((corner >> 1) & 1) * vAxisWS +
                        float((corner >> 2) & 1) * up));
@@ -104,9 +96,10 @@ struct ReliefSurfaceFiles {
 };
 
 namespace detail {
-/// An image file as 8-bit RGB or RGBA (grey repeated, 16 bits rounded).
-inline Image<std::uint8_t> rgb8(const io::ImageFile& file) {
-  const int channels = file.channels() == 4 ? 4 : 3;
+/// An image file as 8-bit RGB, or RGBA when it has alpha and `keepAlpha` (grey repeated, 16 bits
+/// rounded).
+inline Image<std::uint8_t> rgb8(const io::ImageFile& file, bool keepAlpha = true) {
+  const int channels = keepAlpha && file.channels() == 4 ? 4 : 3;
   Image<std::uint8_t> out(file.width(), file.height(), channels);
   for (int y = 0; y < file.height(); ++y)
     for (int x = 0; x < file.width(); ++x) {
@@ -135,19 +128,14 @@ inline ReliefSurface loadReliefSurface(const ReliefSurfaceFiles& files) {
                       std::to_string(*files.heightScale) + " (compute it again, or leave the height scale out)");
     heightScale = computedFor;
   }
-  surface.relief = loadReliefMap(files.heightmap, {.heightScale = heightScale, .wrap = files.wrap});
+  const io::ImageFile heights = io::readImage(files.heightmap);
+  surface.relief = reliefMapOf(heights, files.heightmap, {.heightScale = heightScale, .wrap = files.wrap});
   if (indirection) surface.indirection = std::move(indirection->map);
   if (!files.colors.empty()) surface.colors = detail::rgb8(io::readImage(files.colors));
-  if (!files.normals.empty()) {
-    surface.normals = detail::rgb8(io::readImage(files.normals));
-  } else {
-    const io::ImageFile file = io::readImage(files.heightmap);
-    if (file.channels() == 4 && file.format == "tga") {  // a DirectX SDK normal+height map
-      surface.normals = detail::rgb8(file);
-      for (int y = 0; y < file.height(); ++y)
-        for (int x = 0; x < file.width(); ++x) surface.normals.at(x, y, 3) = 255;
-    }
-  }
+  if (!files.normals.empty())
+    surface.normals = detail::rgb8(io::readImage(files.normals), false);
+  else if (heights.channels() == 4 && heights.format == "tga")  // a DirectX SDK normal+height map
+    surface.normals = detail::rgb8(heights, false);
   return surface;
 }
 

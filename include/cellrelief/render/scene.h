@@ -54,11 +54,7 @@ struct Scene {
       box.extend(Vec3d(b.max));
     }
     for (const auto& m : geotexModels) box.extend(m->boundsWS());
-    for (const auto& s : reliefSurfaces) {
-      const Aabbd b = s->boundsWS();
-      box.extend(b.min);
-      box.extend(b.max);
-    }
+    for (const auto& s : reliefSurfaces) box.extend(s->boundsWS());
     return box;
   }
 };

@@ -83,7 +83,7 @@ class ParallaxTracer {
     mRowU = mAxisU / side;
     mRowV = mAxisV / side;
     mRowW = mAxisW / side;
-    mTop = std::max(surface.maxHeight(), 1e-6f);
+    mTop = std::max(surface.relief.maxHeight(), 1e-6f);
   }
 
   const indirection::ReliefSurface& surface() const { return *mSurface; }
@@ -104,61 +104,11 @@ class ParallaxTracer {
   Vec3f worldDirection(const Vec3f& n) const { return n.x * mAxisU + n.y * mAxisV + n.z * mAxisW; }
 
   /// The first hit of the ray with the relief (or a wall of its slab) within [tmin, tmax].
-  ParallaxHit intersect(const Rayf& ray) const {
-    using namespace parallax_constants;
-    ParallaxHit hit;
-    const Vec3f o = localPoint(ray.origin), d = localDirection(ray.direction);
-    float t0 = ray.tmin, t1 = ray.tmax;
-    int entry = -1;  // the face the ray enters the slab through (-1: it starts inside, or the top)
-    bool exitsThroughFloor = false;
-    if (!clipToSlab(o, d, t0, t1, entry, exitsThroughFloor)) return hit;
-    const indirection::ReliefMap& relief = mSurface->relief;
-    const auto gap = [&](float t) {  // height above the relief, <= 0 below it
-      ++hit.samples;
-      const Vec3f p = o + t * d;
-      return p.z - relief.heightAt(p.x, p.y);
-    };
-    float gapA = gap(t0);
-    if (gapA <= 0) {  // entered below the relief: a wall (or the start of a ray inside the block)
-      hit.t = t0;
-      hit.face = entry;
-      hit.uv = Vec2f(o.x + t0 * d.x, o.y + t0 * d.y);
-      return hit;
-    }
-    const float span = t1 - t0;
-    const float texels = std::max(std::abs(span * d.x) * float(relief.width()), std::abs(span * d.y) * float(relief.height()));
-    const int steps = int(std::clamp(std::ceil(texels * kStepsPerTexel), float(kMinLinearSteps), float(kMaxLinearSteps)));
-    float a = t0;
-    for (int k = 1; k <= steps; ++k) {
-      const float b = t0 + span * float(k) / float(steps);
-      // The floor is at or below the relief everywhere (heights are >= 0): a ray that leaves
-      // through it has met the relief, even where rounding puts its last sample a hair above.
-      const float gapB = k == steps && exitsThroughFloor ? std::min(gap(b), 0.0f) : gap(b);
-      if (gapB > 0) {
-        a = b;
-        gapA = gapB;
-        continue;
-      }
-      float lo = a, hi = b, gapHi = gapB;
-      for (int s = 0; s < kRefineSteps; ++s) {
-        const float m = 0.5f * (lo + hi);
-        const float gm = gap(m);
-        if (gm > 0) {
-          lo = m;
-          gapA = gm;
-        } else {
-          hi = m;
-          gapHi = gm;
-        }
-      }
-      hit.t = lo + (hi - lo) * (gapA / (gapA - gapHi));  // the secant; gapA > 0 >= gapHi
-      hit.uv = Vec2f(o.x + hit.t * d.x, o.y + hit.t * d.y);
-      return hit;
-    }
-    return hit;
-  }
+  ParallaxHit intersect(const Rayf& ray) const { return march(ray, false); }
 
-  bool occluded(const Rayf& ray) const { return intersect(ray).valid(); }
+  /// Whether the ray meets the relief within [tmin, tmax]: the march stops at the first sample
+  /// below it, without refining where (shadow rays).
+  bool occluded(const Rayf& ray) const { return march(ray, true).valid(); }
 
   /// The shading normal of a hit (world space, unit, facing up from the relief or out of a wall).
   Vec3f normalAt(const ParallaxHit& hit) const {
@@ -207,6 +157,65 @@ class ParallaxTracer {
     }
     const Vec2f g = s.relief.gradientAt(uv.x, uv.y);
     return glm::normalize(Vec3f(-g.x, -g.y, 1.0f));
+  }
+
+  /// intersect(); with `anyHit`, the first sample below the relief ends it unrefined.
+  ParallaxHit march(const Rayf& ray, bool anyHit) const {
+    using namespace parallax_constants;
+    ParallaxHit hit;
+    const Vec3f o = localPoint(ray.origin), d = localDirection(ray.direction);
+    float t0 = ray.tmin, t1 = ray.tmax;
+    int entry = -1;  // the face the ray enters the slab through (-1: it starts inside, or the top)
+    bool exitsThroughFloor = false;
+    if (!clipToSlab(o, d, t0, t1, entry, exitsThroughFloor)) return hit;
+    const indirection::ReliefMap& relief = mSurface->relief;
+    const auto gap = [&](float t) {  // height above the relief, <= 0 below it
+      ++hit.samples;
+      const Vec3f p = o + t * d;
+      return p.z - relief.heightAt(p.x, p.y);
+    };
+    float gapA = gap(t0);
+    if (gapA <= 0) {  // entered below the relief: a wall (or the start of a ray inside the block)
+      hit.t = t0;
+      hit.face = entry;
+      hit.uv = Vec2f(o.x + t0 * d.x, o.y + t0 * d.y);
+      return hit;
+    }
+    const float span = t1 - t0;
+    const float texels = std::max(std::abs(span * d.x) * float(relief.width()), std::abs(span * d.y) * float(relief.height()));
+    const int steps = int(std::clamp(std::ceil(texels * kStepsPerTexel), float(kMinLinearSteps), float(kMaxLinearSteps)));
+    float a = t0;
+    for (int k = 1; k <= steps; ++k) {
+      const float b = t0 + span * float(k) / float(steps);
+      // The floor is at or below the relief everywhere (heights are >= 0): a ray that leaves
+      // through it has met the relief, even where rounding puts its last sample a hair above.
+      const float gapB = k == steps && exitsThroughFloor ? std::min(gap(b), 0.0f) : gap(b);
+      if (gapB > 0) {
+        a = b;
+        gapA = gapB;
+        continue;
+      }
+      if (anyHit) {
+        hit.t = b;
+        return hit;
+      }
+      float lo = a, hi = b, gapHi = gapB;
+      for (int s = 0; s < kRefineSteps; ++s) {
+        const float m = 0.5f * (lo + hi);
+        const float gm = gap(m);
+        if (gm > 0) {
+          lo = m;
+          gapA = gm;
+        } else {
+          hi = m;
+          gapHi = gm;
+        }
+      }
+      hit.t = lo + (hi - lo) * (gapA / (gapA - gapHi));  // the secant; gapA > 0 >= gapHi
+      hit.uv = Vec2f(o.x + hit.t * d.x, o.y + hit.t * d.y);
+      return hit;
+    }
+    return hit;
   }
 
   /// Clips [t0, t1] to the slab (the slab test of core/aabb.h); `entry`: the face crossed at t0
