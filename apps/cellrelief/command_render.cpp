@@ -122,6 +122,11 @@ void addSurfaceOptions(CLI::App* cmd, SurfaceCli& o) {
   cmd->add_option("--checker", o.checker, "With a height map and no texture: checkerboard squares per side")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
+  cmd->add_option("--base-mesh", o.baseMesh,
+                  "With a height map: a mesh with UVs to carve the relief into (per-fragment POM; default: a square tile)");
+  cmd->add_option("--uv-scale", o.uvScale, "With --base-mesh: the maps repeat this often over the UVs")
+      ->check(CLI::Range(1e-3, 1e4))
+      ->capture_default_str();
 }
 
 namespace {
@@ -136,6 +141,8 @@ render::Scene reliefSurfaceScene(const std::string& input, const SurfaceCli& o) 
   files.normals = o.normals;
   if (o.heightScale > 0) files.heightScale = o.heightScale;
   files.wrap = parseWrap(o.wrap);
+  files.baseMesh = o.baseMesh;
+  files.uvScale = o.uvScale;
   auto surface = std::make_shared<indirection::ReliefSurface>(indirection::loadReliefSurface(files));
   surface->checkerSquares = o.checker;
   std::printf("relief surface %s: %dx%d texels, height scale %g, %s, %s, %s\n", input.c_str(), surface->relief.width(),
@@ -144,6 +151,9 @@ render::Scene reliefSurfaceScene(const std::string& input, const SurfaceCli& o) 
               o.colors.empty() ? "checkerboard" : ("colours " + o.colors).c_str(),
               surface->normals.isEmpty() ? "normals of the heights"
                                          : (o.normals.empty() ? "normals from the TGA's RGB" : ("normals " + o.normals).c_str()));
+  if (surface->onMesh())
+    std::printf("  carved into %s: %zu triangles, UVs times %g\n", o.baseMesh.c_str(), surface->baseMesh->triangleCount(),
+                double(surface->uvScale));
   render::Scene scene;
   scene.reliefSurfaces.push_back(std::move(surface));
   return scene;
@@ -153,8 +163,9 @@ render::Scene reliefSurfaceScene(const std::string& input, const SurfaceCli& o) 
 
 render::Scene loadScene(const std::string& input, const SurfaceCli& surface) {
   if (io::isImageFile(input)) return reliefSurfaceScene(input, surface);
-  if (!surface.indirection.empty() || !surface.colors.empty() || !surface.normals.empty())
-    throw Error(ErrorKind::InvalidArgument, "--indirection, --texture and --normal-map apply to a height map (an image), not " + input);
+  if (!surface.indirection.empty() || !surface.colors.empty() || !surface.normals.empty() || !surface.baseMesh.empty())
+    throw Error(ErrorKind::InvalidArgument,
+                "--indirection, --texture, --normal-map and --base-mesh apply to a height map (an image), not " + input);
   if (std::filesystem::path(input).extension() == ".cgt") {
     render::Scene scene;
     scene.geotexModels.push_back(std::make_shared<geotex::GeoTexModel>(geotex::readGeoTex(input)));

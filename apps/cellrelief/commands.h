@@ -101,8 +101,9 @@ Wrap parseWrap(const std::string& wrap);
 /// How a height map is shown as a relief surface (parallax occlusion mapping with an indirection
 /// map): the options `render`, `view` and `compare-backends` share.
 struct SurfaceCli {
-  std::string indirection, colors, normals, wrap = "clamp";
+  std::string indirection, colors, normals, wrap = "clamp", baseMesh;
   float heightScale = 0;  ///< 0: the indirection map's, else 0.1
+  float uvScale = 1;
   int checker = 16;
 };
 void addSurfaceOptions(CLI::App* cmd, SurfaceCli& o);

@@ -1663,8 +1663,12 @@ vec3 pxInfoVec3(int s, int field) { return vec3(pxInfoFloat(s, field), pxInfoFlo
 struct SurfaceHit {
   float t;
   vec2 uv;
-  int face;  // ParallaxFace: -1 the relief, 0..4 a wall of the slab
+  float height;  // w at the hit, tile widths
+  int face;      // ParallaxFace: -1 the relief, 0..4 a wall of the slab
+  vec3 rowU, rowV, rowW;  // ParallaxFrame: the frame the hit was traced in
 };
+
+SurfaceHit pxNoHit() { return SurfaceHit(CR_INF, vec2(0.0), 0.0, -1, vec3(0.0), vec3(0.0), vec3(0.0)); }
 
 // indirection::bilinearAxis (relief_map.h), without the slope
 void pxAxis(float t, int size, bool repeat, out int i0, out int i1, out float f) {
@@ -1802,22 +1806,16 @@ float pxGap(int s, vec3 o, vec3 d, float t, inout uint samples) {
   return p.z - pxHeight(s, p.xy);
 }
 
-// ParallaxTracer::march over [tmin, tmax]: intersect, or with anyHit occluded.
-SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, bool anyHit, inout uint samples) {
-  SurfaceHit hit = SurfaceHit(CR_INF, vec2(0.0), -1);
-  const vec3 r = ro - pxInfoVec3(s, CR_PX_ORIGIN);
-  const vec3 rowU = pxInfoVec3(s, CR_PX_ROW_U), rowV = pxInfoVec3(s, CR_PX_ROW_V), rowW = pxInfoVec3(s, CR_PX_ROW_W);
-  const vec3 o = vec3(dot(r, rowU), dot(r, rowV), dot(r, rowW));
-  const vec3 d = vec3(dot(rd, rowU), dot(rd, rowV), dot(rd, rowW));
-  float t0 = tmin, t1 = tmax;
-  int entry;
-  bool floorExit;
-  if (!pxClipToSlab(o, d, pxInfoFloat(s, CR_PX_TOP), t0, t1, entry, floorExit)) return hit;
+// ParallaxTracer::marchSlab: the local ray o + t d over [t0, t1].
+SurfaceHit pxMarchSlab(int s, vec3 o, vec3 d, float t0, float t1, int entry, bool floorExit, bool anyHit,
+                       inout uint samples) {
+  SurfaceHit hit = pxNoHit();
   float gapA = pxGap(s, o, d, t0, samples);
   if (gapA <= 0.0) {
     hit.t = t0;
     hit.face = entry;
     hit.uv = vec2(o.x + t0 * d.x, o.y + t0 * d.y);
+    hit.height = o.z + t0 * d.z;
     return hit;
   }
   const float span = t1 - t0;
@@ -1852,17 +1850,138 @@ SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmin, float tmax, bool anyHit,
     }
     hit.t = lo + (hi - lo) * (gapA / (gapA - gapHi));
     hit.uv = vec2(o.x + hit.t * d.x, o.y + hit.t * d.y);
+    hit.height = o.z + hit.t * d.z;
     return hit;
   }
   return hit;
 }
 
+// ParallaxTracer::march over [tmin, tmax] of a square: intersect, or with anyHit occluded.
+SurfaceHit pxTraceSquare(int s, vec3 ro, vec3 rd, float tmin, float tmax, bool anyHit, inout uint samples) {
+  const vec3 r = ro - pxInfoVec3(s, CR_PX_ORIGIN);
+  const vec3 rowU = pxInfoVec3(s, CR_PX_ROW_U), rowV = pxInfoVec3(s, CR_PX_ROW_V), rowW = pxInfoVec3(s, CR_PX_ROW_W);
+  const vec3 o = vec3(dot(r, rowU), dot(r, rowV), dot(r, rowW));
+  const vec3 d = vec3(dot(rd, rowU), dot(rd, rowV), dot(rd, rowW));
+  float t0 = tmin, t1 = tmax;
+  int entry;
+  bool floorExit;
+  if (!pxClipToSlab(o, d, pxInfoFloat(s, CR_PX_TOP), t0, t1, entry, floorExit)) return pxNoHit();
+  SurfaceHit hit = pxMarchSlab(s, o, d, t0, t1, entry, floorExit, anyHit, samples);
+  hit.rowU = rowU;
+  hit.rowV = rowV;
+  hit.rowW = rowW;
+  return hit;
+}
+
+bool pxOnMesh(int s) { return pxInfo(s, CR_PX_MESH_NODE_OFFSET) != 0u; }
+float pxWord(uint at) { return uintBitsToFloat(pxWords[at]); }
+vec3 pxVec3(uint at) { return vec3(pxWord(at), pxWord(at + 1u), pxWord(at + 2u)); }
+uint pxTriangleAt(int s, int slot) { return pxInfo(s, CR_PX_MESH_TRIANGLE_OFFSET) + uint(slot) * uint(CR_PX_TRIANGLE_WORDS); }
+
+// TriangleBvh::closestHit (or anyHit) over the base mesh's front faces (Faces::Front), t in [0, tmax).
+MeshHit pxTraceMeshFaces(int s, vec3 o, vec3 d, float tmax, bool anyHit) {
+  MeshHit best = MeshHit(tmax, 0.0, 0.0, -1, vec3(0.0));
+  const uint nodeBase = pxInfo(s, CR_PX_MESH_NODE_OFFSET);
+  const vec3 inv = 1.0 / d;
+  uint stack[64];
+  int top = 0;
+  stack[top++] = 0u;
+  while (top > 0) {
+    const uint node = stack[--top];
+    const uint at = nodeBase + node * uint(CR_PX_NODE_WORDS);
+    if (!pcBoxReached(o, d, inv, pxVec3(at), pxVec3(at + 3u), best.t)) continue;
+    const uint first = pxWords[at + 6u], count = pxWords[at + 7u];
+    if (count == 0u) {
+      if (top < 62) {
+        stack[top++] = first;
+        stack[top++] = node + 1u;
+      }
+      continue;
+    }
+    for (uint i = first; i < first + count; ++i) {
+      const uint t = pxTriangleAt(s, int(i));
+      const vec3 v0 = pxVec3(t), e1 = pxVec3(t + 3u), e2 = pxVec3(t + 6u);
+      if (dot(d, cross(e1, e2)) >= 0.0) continue;  // a back face
+      if (pcIntersectTriangle(o, d, v0, v0 + e1, v0 + e2, best, int(i)) && anyHit) return best;
+    }
+  }
+  return best;
+}
+
+// ParallaxTracer::frameAt: the frame at barycentrics (b1, b2) of the triangle in leaf slot `slot`.
+bool pxFrameAt(int s, int slot, float b1, float b2, out vec2 uv, out vec3 rowU, out vec3 rowV, out vec3 rowW) {
+  const uint c0 = pxTriangleAt(s, slot) + 9u, c1 = c0 + uint(CR_PX_CORNER_WORDS), c2 = c1 + uint(CR_PX_CORNER_WORDS);
+  const float b0 = 1.0 - b1 - b2;
+  uv = b0 * vec2(pxWord(c0), pxWord(c0 + 1u)) + b1 * vec2(pxWord(c1), pxWord(c1 + 1u)) + b2 * vec2(pxWord(c2), pxWord(c2 + 1u));
+  rowU = rowV = rowW = vec3(0.0);
+  const vec3 summed = b0 * pxVec3(c0 + 2u) + b1 * pxVec3(c1 + 2u) + b2 * pxVec3(c2 + 2u);
+  const float len = length(summed);
+  if (!(len > 0.0)) return false;
+  const vec3 n = summed / len;
+  vec3 tu = b0 * pxVec3(c0 + 5u) + b1 * pxVec3(c1 + 5u) + b2 * pxVec3(c2 + 5u);
+  vec3 tv = b0 * pxVec3(c0 + 8u) + b1 * pxVec3(c1 + 8u) + b2 * pxVec3(c2 + 8u);
+  tu -= n * dot(n, tu);
+  tv -= n * dot(n, tv);
+  const float uu = dot(tu, tu), uv2 = dot(tu, tv), vv = dot(tv, tv);
+  const float det = uu * vv - uv2 * uv2;
+  if (!(det > CR_PX_MIN_FRAME_SPAN * uu * vv) || isinf(det)) return false;
+  const float side = sqrt(sqrt(det));
+  rowU = (vv * tu - uv2 * tv) / det;
+  rowV = (uu * tv - uv2 * tu) / det;
+  rowW = n / side;
+  return true;
+}
+
+// ParallaxTracer::marchMesh: the nearest front face, then the march below it in its frame.
+SurfaceHit pxTraceMesh(int s, vec3 ro, vec3 rd, float tmax, inout uint samples) {
+  const MeshHit base = pxTraceMeshFaces(s, ro, rd, tmax, false);
+  if (base.triangle < 0) return pxNoHit();
+  vec2 uv;
+  vec3 rowU, rowV, rowW;
+  const bool framed = pxFrameAt(s, base.triangle, base.u, base.v, uv, rowU, rowV, rowW);
+  const float top = pxInfoFloat(s, CR_PX_TOP);
+  const vec3 d = vec3(dot(rd, rowU), dot(rd, rowV), dot(rd, rowW));
+  if (!framed || !(d.z < 0.0)) {
+    return SurfaceHit(base.t, uv, top, -1, rowU, rowV, framed ? rowW : normalize(base.ng));
+  }
+  SurfaceHit hit = pxMarchSlab(s, vec3(uv, top), d, 0.0, -top / d.z, -1, true, false, samples);
+  hit.t += base.t;
+  hit.rowU = rowU;
+  hit.rowV = rowV;
+  hit.rowW = rowW;
+  if (!(hit.t <= tmax)) return pxNoHit();
+  return hit;
+}
+
+SurfaceHit pxTrace(int s, vec3 ro, vec3 rd, float tmax, bool anyHit, inout uint samples) {
+  if (!pxOnMesh(s)) return pxTraceSquare(s, ro, rd, 0.0, tmax, anyHit, samples);
+  if (!anyHit) return pxTraceMesh(s, ro, rd, tmax, samples);
+  SurfaceHit hit = pxNoHit();
+  const MeshHit base = pxTraceMeshFaces(s, ro, rd, tmax, true);
+  if (base.triangle >= 0) hit.t = base.t;
+  return hit;
+}
+
+// ParallaxTracer::selfShadowed
+bool pxSelfShadowed(int s, SurfaceHit h, vec3 normal, vec3 towards, float offset) {
+  if (!pxOnMesh(s) || h.face != -1) return false;
+  const vec3 lift = offset * normal;
+  const vec3 start = vec3(h.uv, h.height) + vec3(dot(lift, h.rowU), dot(lift, h.rowV), dot(lift, h.rowW));
+  const vec3 d = vec3(dot(towards, h.rowU), dot(towards, h.rowV), dot(towards, h.rowW));
+  if (!(d.z > 0.0)) return true;
+  const float top = pxInfoFloat(s, CR_PX_TOP);
+  if (start.z >= top) return false;
+  uint samples = 0u;
+  return !isinf(pxMarchSlab(s, start, d, 0.0, (top - start.z) / d.z, -1, false, true, samples).t);
+}
+
 // The nearest surface hit before tmax (CpuBackend::intersect, after the charts).
 int pxTraceSurfaces(vec3 o, vec3 d, float tmax, out SurfaceHit best, inout uint samples) {
-  best = SurfaceHit(tmax, vec2(0.0), -1);
+  best = pxNoHit();
+  best.t = tmax;
   int found = -1;
   for (int s = 0; s < pxSurfaceCount(); ++s) {
-    const SurfaceHit h = pxTrace(s, o, d, 0.0, best.t, false, samples);
+    const SurfaceHit h = pxTrace(s, o, d, best.t, false, samples);
     if (!isinf(h.t) && h.t < best.t) {
       best = h;
       found = s;
@@ -1874,7 +1993,7 @@ int pxTraceSurfaces(vec3 o, vec3 d, float tmax, out SurfaceHit best, inout uint 
 bool pxOccluded(vec3 o, vec3 d) {
   uint samples = 0u;
   for (int s = 0; s < pxSurfaceCount(); ++s)
-    if (!isinf(pxTrace(s, o, d, 0.0, CR_INF, true, samples).t)) return true;
+    if (!isinf(pxTrace(s, o, d, CR_INF, true, samples).t)) return true;
   return false;
 }
 
@@ -1897,7 +2016,10 @@ void pxShade(int s, SurfaceHit h, out vec3 normal, out vec3 base) {
     const vec2 g = pxGradient(s, h.uv);
     n = normalize(vec3(-g.x, -g.y, 1.0));
   }
-  normal = n.x * pxInfoVec3(s, CR_PX_AXIS_U) + n.y * pxInfoVec3(s, CR_PX_AXIS_V) + n.z * pxInfoVec3(s, CR_PX_AXIS_W);
+  // ParallaxFrame::worldNormal
+  const vec3 w = n.x * h.rowU + n.y * h.rowV + n.z * h.rowW;
+  const float wl = length(w);
+  normal = wl > 0.0 ? w / wl : normalize(h.rowW);
   vec2 st = h.uv;
   if (pxInfo(s, CR_PX_INDIRECTION_OFFSET) != 0u) st += pxIndirection(s, h.uv);
   if (pxInfo(s, CR_PX_COLOR_OFFSET) != 0u) {
@@ -1930,6 +2052,10 @@ Hit traceScene(vec3 o, vec3 d, out int hitModel) {
   best.steps = steps;
   return best;
 }
+
+// The relief surface hit being shaded, for its self-shadowing (CpuBackend::shade); -1: none.
+int gSelfSurface;
+SurfaceHit gSelfHit;
 
 bool occludedScene(vec3 o, vec3 d) {
   if (CR_POLYCUBE && pcOccluded(o, d)) return true;
@@ -2049,6 +2175,7 @@ vec3 shadeLocal(vec3 position, vec3 normal, vec3 base, float offset) {
     const float lambert = dot(normal, towards);
     if (lambert <= 0.0) continue;
     if (CR_SHADOWS && P.flags.x != 0) {
+      if (CR_PARALLAX && gSelfSurface >= 0 && pxSelfShadowed(gSelfSurface, gSelfHit, normal, towards, offset)) continue;
       const int keep = gModel;
       const bool blocked = occludedScene(position + offset * normal, towards);
       if (keep >= 0) selectModel(keep);  // -1 on a polycube mesh's hit
@@ -2079,6 +2206,7 @@ void main() {
   gInverseAtlasSize = 1.0 / vec2(textureSize(distanceAtlas, 0).xy);
   gT2InverseSize = 1.0 / vec2(textureSize(polycubeT2, 0).xy);
   gModel = -1;
+  gSelfSurface = -1;
   // Camera::primaryRay
   const float sx = (2.0 * (float(pixel.x) + 0.5) / float(width) - 1.0);
   const float sy = (1.0 - 2.0 * (float(pixel.y) + 0.5) / float(height));
@@ -2118,6 +2246,8 @@ void main() {
     pxShade(surface, surfaceHit, shadingNormal, base);
     t = surfaceHit.t;
     offset = pxSurfaceOffset(surface);
+    gSelfSurface = surface;
+    gSelfHit = surfaceHit;
   } else if (charts >= 0) {
     gtShade(charts, chartHit, shadingNormal, base);
     t = chartHit.t;
@@ -2178,6 +2308,8 @@ void main() {
       }
       vec3 nextNormal;
       float nextT;
+      gSelfSurface = nextSurface;
+      gSelfHit = sh;
       if (nextSurface >= 0) {
         pxShade(nextSurface, sh, nextNormal, baseK);
         nextT = sh.t;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cellrelief/io/image_io.h>
+#include <cellrelief/io/mesh_io.h>
 
 #include "test_support.h"
 
@@ -446,6 +447,47 @@ TEST(Cli, RenderShowsAHeightMapWithItsIndirectionMapOnEveryBackend) {
       {"render " + hm + " --indirection " + map + " --height-scale 0.3" + out, "computed for height scale"},
       {"render " + hm + " --wrap sideways" + out, "--wrap takes clamp or repeat"},
       {"render " + spot.string() + " --indirection " + map + out, "apply to a height map"}};
+  for (const auto& [args, words] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, words)) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
+// A height map carved into a mesh with UVs (--base-mesh): the mesh's silhouette on every backend,
+// relief inside it that a plain texture lacks, and clear errors for a mesh that cannot carry it.
+TEST(Cli, RenderCarvesAHeightMapIntoAMeshWithUVs) {
+  const auto spot = test::dataDir() / "meshes/small/spot__common-3d-test-models.obj";
+  const auto rocks = test::dataDir() / "heightmaps/pom_dxsdk/rocks_NM_height.tga";
+  CELLRELIEF_REQUIRE_FILE(spot);
+  CELLRELIEF_REQUIRE_FILE(rocks);
+  test::TempDir dir;
+  const std::string common = " --base-mesh " + spot.string() + " --wrap repeat --uv-scale 6 --size 96x96 --camera 30,15";
+  const Result cpu = run("render " + rocks.string() + " --height-scale 0.04" + common + " -o " + (dir / "cpu.png").string() +
+                         " --backend cpu");
+  ASSERT_EQ(cpu.status, 0) << cpu.output;
+  EXPECT_TRUE(test::hasWords(cpu.output, "carved into")) << cpu.output;
+  EXPECT_TRUE(test::hasWords(cpu.output, "5856 triangles, UVs times 6")) << cpu.output;
+  for (const char* backend : {"opengl", "vulkan"}) {
+    const std::string png = (dir / (std::string(backend) + ".png")).string();
+    const Result r = run("render " + rocks.string() + " --height-scale 0.04" + common + " -o " + png + " --backend " + backend,
+                         kDrivers);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_LE(differingPixels(png, dir / "cpu.png"), 96 * 96 / 200) << backend;
+  }
+  // A shallower relief moves the shading and the parallax: many pixels change.
+  const Result shallow = run("render " + rocks.string() + " --height-scale 0.005" + common + " -o " +
+                             (dir / "shallow.png").string() + " --backend cpu");
+  ASSERT_EQ(shallow.status, 0) << shallow.output;
+  EXPECT_GT(differingPixels(dir / "shallow.png", dir / "cpu.png"), 96 * 96 / 20);
+  // A mesh without UVs, and --base-mesh where there is no height map.
+  io::writeMesh(io::readMesh(spot, {.uvs = false}), dir / "no_uvs.obj");
+  const std::string out = " -o " + (dir / "x.png").string() + " --backend cpu --size 8x8";
+  const std::pair<std::string, std::string> cases[] = {
+      {"render " + rocks.string() + " --base-mesh " + (dir / "no_uvs.obj").string() + out, "no_uvs.obj"},
+      {"render " + rocks.string() + " --base-mesh " + (dir / "absent.obj").string() + out, "absent.obj"},
+      {"render " + spot.string() + " --base-mesh " + spot.string() + out, "apply to a height map"}};
   for (const auto& [args, words] : cases) {
     const Result r = run(args);
     EXPECT_EQ(r.status, 1) << args << ": " << r.output;

@@ -3,6 +3,8 @@
 // colour map and a Gauss-Newton indirection map, the same relief with a checkerboard, and the
 // DirectX SDK rocks (normal map in the TGA's RGB, tiling colour map), side by side. The CPU
 // backend's frame is the tracer's, ray by ray; OpenGL and Vulkan are compared with it per pixel.
+// Spot (a mesh with UVs) carries the rocks as a base mesh: its silhouette is the mesh's, every
+// hit lies below it, and the GPU backends match the CPU there too.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -130,6 +132,67 @@ TEST(ParallaxRendering, TheIndirectionMapChangesWhatTheTextureShows) {
 // hundreds of pixels by tens of levels.
 constexpr double kMaskBound = 1e-3, kDepthBound = 1e-2, kNormalBound = 0.05;
 constexpr double kMeanColourBound = 0.1, kMedianColourBound = 1.0, kP99ColourBound = 2;
+
+std::filesystem::path spotPath() { return test::dataDir() / "meshes" / "small" / "spot__common-3d-test-models.obj"; }
+
+/// Spot with the rocks carved into it, the maps repeated 6 times over its UV atlas.
+Scene spotWithRocks() {
+  indirection::ReliefSurfaceFiles files;
+  files.heightmap = heightmap("pom_dxsdk/rocks_NM_height.tga");
+  files.colors = heightmap("pom_dxsdk/rocks.jpg");
+  files.wrap = Wrap::Repeat;
+  files.heightScale = 0.04f;
+  files.baseMesh = spotPath();
+  files.uvScale = 6.0f;
+  Scene scene;
+  scene.reliefSurfaces.push_back(std::make_shared<ReliefSurface>(indirection::loadReliefSurface(files)));
+  return scene;
+}
+
+Camera spotView(double yaw, double pitch) { return Camera::framing(Vec3d(0.0, 0.3, 0.0), 1.1, yaw, pitch, 40.0); }
+
+TEST(ParallaxRendering, OnAMeshTheSilhouetteIsTheMeshsAndTheReliefLiesBelowIt) {
+  REQUIRE_PARALLAX_DATA();
+  CELLRELIEF_REQUIRE_FILE(spotPath());
+  const Scene scene = spotWithRocks();
+  const ReliefSurface& surface = *scene.reliefSurfaces[0];
+  const TriangleBvh<float> bvh(surface.baseMesh->positions, surface.baseMesh->triangles);
+  cpu::CpuBackend cpu;
+  cpu.upload(scene);
+  RenderOptions options;
+  options.width = options.height = 96;
+  const Camera camera = spotView(30, 15);
+  const Frame frame = cpu.renderFrame(camera, options);
+  const Camera::FloatFrame rays = camera.floatFrame(options.width, options.height);
+  std::size_t hits = 0, carved = 0;
+  for (int y = 0; y < options.height; ++y)
+    for (int x = 0; x < options.width; ++x) {
+      const Rayf ray = rays.ray(x, y);
+      const Hitf base = bvh.closestHit(ray, kInvalidId, Faces::Front);
+      ASSERT_EQ(frame.mask.at(x, y, 0) != 0, base.valid()) << "pixel " << x << ", " << y;
+      if (!base.valid()) continue;
+      ++hits;
+      const float depth = frame.depth.at(x, y, 0);
+      EXPECT_GE(depth, base.t);
+      carved += depth > base.t * (1 + 1e-5f);
+    }
+  EXPECT_GT(hits, std::size_t(options.width * options.height / 5));
+  EXPECT_GT(carved, hits / 2);
+}
+
+TEST(ParallaxRendering, OnAMeshGpuBackendsAgreeWithTheCpuReference) {
+  REQUIRE_PARALLAX_DATA();
+  CELLRELIEF_REQUIRE_FILE(spotPath());
+  const Scene scene = spotWithRocks();
+  RenderOptions options;
+  options.width = options.height = 160;
+  const Camera cameras[2] = {spotView(30, 15), spotView(200, 35)};
+  const test::AgreementBounds agreement{.minHits = 3000, .mask = kMaskBound, .depthP95 = kDepthBound,
+                                        .normalP95 = kNormalBound, .meanColour = kMeanColourBound,
+                                        .p99Colour = kP99ColourBound, .medianColour = kMedianColourBound};
+  if (test::expectGpuBackendsAgree(scene, cameras, options, 1.0 / 128, agreement, "parallax_mesh") == 0 && !test::inCI())
+    GTEST_SKIP() << "no GPU backend runs here";
+}
 
 TEST(ParallaxRendering, GpuBackendsAgreeWithTheCpuReferencePerPixel) {
   REQUIRE_PARALLAX_DATA();

@@ -213,6 +213,11 @@ class BoxBvh {
   std::vector<std::uint32_t> mIds;
 };
 
+/// Which sides of its triangles a ray query sees: both, or only the front, where the ray runs
+/// against the winding's normal (a rasterizer's back-face culling; one-sided surfaces such as the
+/// base mesh of parallax occlusion mapping, which rays leave from below).
+enum class Faces { Both, Front };
+
 /// Triangles on a BoxBvh, stored in its leaf order as (v0, e1, e2).
 template <Real T>
 class TriangleBvh {
@@ -247,14 +252,14 @@ class TriangleBvh {
   std::span<const std::uint32_t> primitiveIds() const { return mTree.primitiveIds(); }
 
   /// True when the ray meets a triangle other than `skip` with t in [tmin, tmax).
-  bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
+  bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId, Faces faces = Faces::Both) const {
     bool found = false;
     Hit<T> hit;
     hit.t = ray.tmax;
     T tmax = ray.tmax;
     mTree.traverse(ray, tmax, [&](std::uint32_t i, T&) {
       if (mTree.primitiveIds()[i] == skip) return false;
-      if (intersectPrim(ray, i, hit)) found = true;
+      if (intersectPrim(ray, i, hit, faces)) found = true;
       return found;
     });
     return found;
@@ -278,12 +283,12 @@ class TriangleBvh {
 
   /// The nearest hit with t in [tmin, tmax) (hit.valid() is false when there is none); primId is
   /// the index of the triangle in the input.
-  Hit<T> closestHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
+  Hit<T> closestHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId, Faces faces = Faces::Both) const {
     Hit<T> best;
     best.t = ray.tmax;
     T tmax = ray.tmax;
     mTree.traverse(ray, tmax, [&](std::uint32_t i, T& limit) {
-      if (mTree.primitiveIds()[i] != skip && intersectPrim(ray, i, best)) limit = best.t;
+      if (mTree.primitiveIds()[i] != skip && intersectPrim(ray, i, best, faces)) limit = best.t;
       return false;
     });
     if (!best.valid()) best.t = std::numeric_limits<T>::infinity();
@@ -291,7 +296,8 @@ class TriangleBvh {
   }
 
  private:
-  bool intersectPrim(const Ray<T>& ray, std::uint32_t i, Hit<T>& hit) const {
+  bool intersectPrim(const Ray<T>& ray, std::uint32_t i, Hit<T>& hit, Faces faces) const {
+    if (faces == Faces::Front && glm::dot(ray.direction, glm::cross(mE1[i], mE2[i])) >= T(0)) return false;
     const std::uint32_t id = mTree.primitiveIds()[i];
     const T before = hit.t;
     intersectTriangle(ray.origin, ray.direction, ray.tmin, mV0[i], mV0[i] + mE1[i],

@@ -108,6 +108,7 @@ class CpuBackend final : public render::Backend {
     int mesh = -1;
     int geotex = -1;
     int surface = -1;
+    trace::ParallaxHit surfaceHit{};  ///< a relief surface's hit, with the frame it was traced in
     std::uint32_t steps = 0;  ///< over every model's search, hit or miss
     bool valid() const { return model >= 0 || mesh >= 0 || geotex >= 0 || surface >= 0; }
   };
@@ -158,6 +159,7 @@ class CpuBackend final : public render::Backend {
       best.hit.normal = tracer.normalAt(h);
       best.base = tracer.colorAt(h);
       best.surface = int(i);
+      best.surfaceHit = h;
     }
     best.steps = steps;
     return best;
@@ -205,6 +207,9 @@ class CpuBackend final : public render::Backend {
       const Vec3f towards = glm::normalize(l.direction);
       const float lambert = glm::dot(normal, towards);
       if (lambert <= 0) continue;
+      if (options.shadows && sh.surface >= 0 &&
+          mSurfaceTracers[std::size_t(sh.surface)]->selfShadowed(sh.surfaceHit, normal, towards, offset))
+        continue;
       if (options.shadows && occluded(Rayf(p + offset * normal, towards))) continue;
       light += l.color * (l.intensity * lambert);
     }

@@ -7,7 +7,10 @@
 ///
 /// Words: [0] the surface count; then per surface kSurfaceWords of SurfaceWord fields; then per
 /// surface its heights (float, pre-scaled, row-major), its indirection map (two floats per texel)
-/// when it has one, its colour map and its normal map (one RGBA8 word per texel) when it has them.
+/// when it has one, its colour map and its normal map (one RGBA8 word per texel) when it has them,
+/// and on a base mesh its BVH nodes (kNodeWords each: box min, box max, first, count as BoxBvh
+/// numbers them) and its triangles in the BVH's leaf order (kTriangleWords each: v0, e1, e2 as
+/// TriangleBvh stores them, then per corner its UV, normal, dP/du and dP/dv).
 /// Heights and offsets are floats, not codes, so that the shader samples exactly the values the
 /// CPU tracer samples (trace/parallax_tracer.h).
 #pragma once
@@ -24,32 +27,34 @@
 namespace cellrelief::gpu {
 
 namespace parallax_words {
-inline constexpr int kSurfaceWords = 40;
+inline constexpr int kSurfaceWords = 32;
+inline constexpr int kNodeWords = 8;
+inline constexpr int kCornerWords = 11;
+inline constexpr int kTriangleWords = 9 + 3 * kCornerWords;
 /// The fields of a surface's record.
 enum SurfaceWord : int {
   kOrigin = 0,             ///< 3 floats
   kRowU = 3,               ///< 3 floats: world to u (ParallaxTracer::localPoint)
   kRowV = 6,               ///< 3 floats
   kRowW = 9,               ///< 3 floats: world to height in tile widths
-  kAxisU = 12,             ///< 3 floats: the unit frame, for normals back to world space
-  kAxisV = 15,             ///< 3 floats
-  kAxisW = 18,             ///< 3 floats
-  kTop = 21,               ///< float: the slab's height
-  kHeightWidth = 22,
-  kHeightHeight = 23,
-  kRepeat = 24,            ///< 1: the maps repeat (tiling), 0: they clamp
-  kHeightOffset = 25,
-  kIndirectionOffset = 26, ///< 0 when there is no indirection map
-  kIndirectionWidth = 27,
-  kIndirectionHeight = 28,
-  kColorOffset = 29,       ///< 0 when there is no colour map (a checkerboard)
-  kColorWidth = 30,
-  kColorHeight = 31,
-  kNormalOffset = 32,      ///< 0 when there is no normal map
-  kNormalWidth = 33,
-  kNormalHeight = 34,
-  kCheckerSquares = 35,
-  kSurfaceOffset = 36,     ///< float: ParallaxTracer::surfaceOffset
+  kTop = 12,               ///< float: the slab's height
+  kHeightWidth = 13,
+  kHeightHeight = 14,
+  kRepeat = 15,            ///< 1: the maps repeat (tiling), 0: they clamp
+  kHeightOffset = 16,
+  kIndirectionOffset = 17, ///< 0 when there is no indirection map
+  kIndirectionWidth = 18,
+  kIndirectionHeight = 19,
+  kColorOffset = 20,       ///< 0 when there is no colour map (a checkerboard)
+  kColorWidth = 21,
+  kColorHeight = 22,
+  kNormalOffset = 23,      ///< 0 when there is no normal map
+  kNormalWidth = 24,
+  kNormalHeight = 25,
+  kCheckerSquares = 26,
+  kSurfaceOffset = 27,     ///< float: ParallaxTracer::surfaceOffset
+  kMeshNodeOffset = 28,    ///< 0 for a square
+  kMeshTriangleOffset = 29,
 };
 static_assert(kSurfaceOffset < kSurfaceWords);
 }  // namespace parallax_words
@@ -72,6 +77,39 @@ inline std::uint32_t rgba8Word(const Image<std::uint8_t>& image, int x, int y) {
 }
 }  // namespace detail
 
+/// A base mesh's BVH and triangles (see the file comment), offsets written into its record.
+inline void packMesh(const trace::ParallaxTracer& tracer, const TriangleMesh& mesh, std::vector<std::uint32_t>& words,
+                     std::size_t info) {
+  using namespace parallax_words;
+  const auto floatWord = [](float v) { return std::bit_cast<std::uint32_t>(v); };
+  const auto pushVec3 = [&](Vec3f v) {
+    for (int a = 0; a < 3; ++a) words.push_back(floatWord(v[a]));
+  };
+  const TriangleBvh<float>& bvh = tracer.meshBvh();
+  words[info + kMeshNodeOffset] = std::uint32_t(words.size());
+  for (const auto& node : bvh.nodes()) {
+    pushVec3(node.box.min);
+    pushVec3(node.box.max);
+    words.push_back(node.first);
+    words.push_back(node.count);
+  }
+  words[info + kMeshTriangleOffset] = std::uint32_t(words.size());
+  for (const std::uint32_t id : bvh.primitiveIds()) {
+    const Vec3u& t = mesh.triangles[id];
+    const Vec3f p0 = mesh.positions[t[0]];
+    pushVec3(p0);
+    pushVec3(mesh.positions[t[1]] - p0);
+    pushVec3(mesh.positions[t[2]] - p0);
+    for (const trace::ParallaxTracer::Corner& c : tracer.corners(id)) {
+      words.push_back(floatWord(c.uv.x));
+      words.push_back(floatWord(c.uv.y));
+      pushVec3(c.normal);
+      pushVec3(c.tangentU);
+      pushVec3(c.tangentV);
+    }
+  }
+}
+
 /// Packs the scene's relief surfaces. Throws ResourceLimit when the words exceed
 /// `maxStorageBytes` or 32-bit indices.
 inline ParallaxGpu packReliefSurfaces(const render::Scene& scene, std::size_t maxStorageBytes) {
@@ -85,7 +123,8 @@ inline ParallaxGpu packReliefSurfaces(const render::Scene& scene, std::size_t ma
     total += std::uint64_t(s->relief.width()) * s->relief.height() +
              (s->hasIndirection() ? 2 * std::uint64_t(s->indirection.width()) * s->indirection.height() : 0) +
              (s->colors.isEmpty() ? 0 : std::uint64_t(s->colors.width()) * s->colors.height()) +
-             (s->normals.isEmpty() ? 0 : std::uint64_t(s->normals.width()) * s->normals.height());
+             (s->normals.isEmpty() ? 0 : std::uint64_t(s->normals.width()) * s->normals.height()) +
+             (s->onMesh() ? std::uint64_t(kTriangleWords + 2 * kNodeWords) * s->baseMesh->triangles.size() : 0);
   if (total * 4 > maxStorageBytes || total >= (1ull << 31))
     throw Error(ErrorKind::ResourceLimit, "the scene's relief surfaces need " + std::to_string(total * 4) +
                                               " bytes, beyond the device's storage buffer limit");
@@ -104,9 +143,6 @@ inline ParallaxGpu packReliefSurfaces(const render::Scene& scene, std::size_t ma
     setVec3(kRowU, tracer.rowU());
     setVec3(kRowV, tracer.rowV());
     setVec3(kRowW, tracer.rowW());
-    setVec3(kAxisU, tracer.worldDirection(Vec3f(1, 0, 0)));
-    setVec3(kAxisV, tracer.worldDirection(Vec3f(0, 1, 0)));
-    setVec3(kAxisW, tracer.worldDirection(Vec3f(0, 0, 1)));
     set(kTop, floatWord(tracer.top()));
     set(kHeightWidth, std::uint32_t(s.relief.width()));
     set(kHeightHeight, std::uint32_t(s.relief.height()));
@@ -134,7 +170,11 @@ inline ParallaxGpu packReliefSurfaces(const render::Scene& scene, std::size_t ma
     };
     packRgba(s.colors, kColorOffset);
     packRgba(s.normals, kNormalOffset);
+    if (s.onMesh()) packMesh(tracer, *s.baseMesh, out.words, info);
   }
+  if (out.words.size() * 4 > maxStorageBytes || out.words.size() >= (1ull << 31))
+    throw Error(ErrorKind::ResourceLimit, "the scene's relief surfaces need " + std::to_string(out.words.size() * 4) +
+                                              " bytes, beyond the device's storage buffer limit");
   return out;
 }
 

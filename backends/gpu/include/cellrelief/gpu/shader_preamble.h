@@ -196,9 +196,6 @@ inline std::string traversalConstants() {
     s += define("CR_PX_ROW_U", w::kRowU);
     s += define("CR_PX_ROW_V", w::kRowV);
     s += define("CR_PX_ROW_W", w::kRowW);
-    s += define("CR_PX_AXIS_U", w::kAxisU);
-    s += define("CR_PX_AXIS_V", w::kAxisV);
-    s += define("CR_PX_AXIS_W", w::kAxisW);
     s += define("CR_PX_TOP", w::kTop);
     s += define("CR_PX_HEIGHT_WIDTH", w::kHeightWidth);
     s += define("CR_PX_HEIGHT_HEIGHT", w::kHeightHeight);
@@ -209,6 +206,12 @@ inline std::string traversalConstants() {
     s += define("CR_PX_NORMAL_OFFSET", w::kNormalOffset);
     s += define("CR_PX_CHECKER_SQUARES", w::kCheckerSquares);
     s += define("CR_PX_SURFACE_OFFSET", w::kSurfaceOffset);
+    s += define("CR_PX_MESH_NODE_OFFSET", w::kMeshNodeOffset);
+    s += define("CR_PX_MESH_TRIANGLE_OFFSET", w::kMeshTriangleOffset);
+    s += define("CR_PX_NODE_WORDS", w::kNodeWords);
+    s += define("CR_PX_CORNER_WORDS", w::kCornerWords);
+    s += define("CR_PX_TRIANGLE_WORDS", w::kTriangleWords);
+    s += define("CR_PX_MIN_FRAME_SPAN", glslFloat(p::kMinFrameSpan));
     s += define("CR_PX_STEPS_PER_TEXEL", glslFloat(p::kStepsPerTexel));
     s += define("CR_PX_MIN_LINEAR_STEPS", p::kMinLinearSteps);
     s += define("CR_PX_MAX_LINEAR_STEPS", p::kMaxLinearSteps);
