@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The Ceres optimizer: the flat map is the identity, it lowers distortion on real height maps below
-// the springs' without flipped cells, and steps and noise stay finite and flip-free.
+// the springs' without flipped cells, steps and noise stay finite and flip-free, and a reused
+// solver gives what the function gives and refines a warm start.
 #include <gtest/gtest.h>
 
 #include <cellrelief/indirection/ceres_optimizer.h>
@@ -64,6 +65,50 @@ TEST(Ceres, StepsAndNoiseStayFiniteAndFlipFree) {
   }
 }
 
+TEST(Ceres, AReusedSolverGivesWhatTheFunctionGives) {
+  const ReliefMap relief = test::noiseRelief(64, 0.2f, 6, 11), other = test::noiseRelief(64, 0.3f, 5, 3);
+  CeresOptions o;
+  o.gridSize = 32;
+  o.threads = 1;  // one thread: Ceres' sums in one order, so results compare bitwise
+  CeresSolver solver(o);
+  const Grid first = solver.solve(relief);
+  const std::size_t built = solver.builtLevels();
+  const Grid between = solver.solve(other);  // the problems now hold another map's relief
+  const Grid again = solver.solve(relief);
+  EXPECT_EQ(solver.builtLevels(), built);  // no problem built twice
+  const Grid once = optimizeCeres(relief, o);
+  EXPECT_EQ(first.u(), once.u());
+  EXPECT_EQ(first.v(), once.v());
+  EXPECT_EQ(again.u(), once.u());
+  EXPECT_EQ(again.v(), once.v());
+  EXPECT_NE(between.u(), once.u());
+}
+
+TEST(Ceres, AWarmStartRefinesFromItsOwnLevel) {
+  const ReliefMap relief = test::noiseRelief(64, 0.25f, 6, 7);
+  CeresOptions o;
+  o.gridSize = 32;
+  o.threads = 1;
+  o.maxFinalIterations = 30;  // stop early, so that a second run has something left to do
+  CeresSolver solver(o);
+  CeresReport cold, warm;
+  const Grid first = solver.solve(relief, {}, &cold);
+  const Grid refined = solver.solve(relief, first, {}, &warm);
+  // Only the last level runs, from where the first solve stopped.
+  EXPECT_EQ(warm.iterations, warm.finalIterations);
+  EXPECT_NEAR(warm.initialCost, cold.finalCost, 1e-4 * cold.finalCost);  // the grid holds floats
+  EXPECT_LE(warm.finalCost, cold.finalCost);
+  const Distortion d1 = measureDistortion(first, relief), d2 = measureDistortion(refined, relief);
+  EXPECT_EQ(d2.flippedCells, 0u);
+  EXPECT_LE(d2.l2Stretch, d1.l2Stretch * (1 + 1e-6));
+  // A coarser start is resampled to its level and solved up from there.
+  CeresReport fromCoarse;
+  const Grid up = solver.solve(relief, Grid(16), {}, &fromCoarse);
+  EXPECT_EQ(up.g(), 32);
+  EXPECT_GT(fromCoarse.iterations, fromCoarse.finalIterations);
+  EXPECT_THROW(solver.solve(relief, Grid(64)), Error);  // finer than the grid
+}
+
 TEST(Ceres, BadOptionsAreClearErrors) {
   const ReliefMap relief = test::noiseRelief(16, 0.1f, 3, 1);
   CeresOptions o;
@@ -72,6 +117,7 @@ TEST(Ceres, BadOptionsAreClearErrors) {
   o = {};
   o.maxIterations = 0;
   EXPECT_THROW(optimizeCeres(relief, o), Error);
+  EXPECT_THROW(CeresSolver{o}, Error);
 }
 
 }  // namespace

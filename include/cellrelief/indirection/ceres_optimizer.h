@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -82,13 +83,20 @@ namespace detail {
 /// The conformal residual of one triangle, (a + n x b) / lambda (and a barrier against folds); parameter blocks are its three vertices (u, v).
 /// `corner` orders the vertices so that a = (p1 - p0) g and b = (p2 - p1) g (lower triangle) or
 /// a = (p1 - p2) g and b = (p2 - p0) g (upper triangle), as in measureDistortion.
+/// What a level's residuals read that changes with the map: the (filtered) relief and 1 / lambda.
+/// A CeresSolver rebinds it between solves; the residual blocks stay.
+struct LevelRelief {
+  ReliefMap relief;
+  double invLambda = 1;
+};
+
 class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
  public:
-  TriangleMetricCost(const ReliefMap& relief, int upper, double g, double lambda)
-      : mRelief(relief), mUpper(upper), mG(g), mInvLambda(1.0 / lambda) {}
+  TriangleMetricCost(const LevelRelief& level, int upper, double g) : mLevel(level), mUpper(upper), mG(g) {}
 
   bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
     using J = ceres::Jet<double, 6>;
+    const ReliefMap& mRelief = mLevel.relief;
     J u[3], v[3], z[3];
     for (int k = 0; k < 3; ++k) {
       const float fu = float(p[k][0]), fv = float(p[k][1]);
@@ -121,7 +129,7 @@ class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
     const J cn = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     const J n[3] = {c[0] / cn, c[1] / cn, c[2] / cn};
     const J nb[3] = {n[1] * b[2] - n[2] * b[1], n[2] * b[0] - n[0] * b[2], n[0] * b[1] - n[1] * b[0]};
-    const double w = std::sqrt(0.5) * mInvLambda;
+    const double w = std::sqrt(0.5) * mLevel.invLambda;
     const J r[4] = {(a[0] + nb[0]) * w, (a[1] + nb[1]) * w, (a[2] + nb[2]) * w, barrier};
     for (int i = 0; i < 4; ++i) residuals[i] = r[i].a;
     if (jacobians)
@@ -136,9 +144,9 @@ class TriangleMetricCost final : public ceres::SizedCostFunction<4, 2, 2, 2> {
 
  private:
   static constexpr double kBarrier = 0.05, kBarrierWeight = 1.0;
-  const ReliefMap& mRelief;
+  const LevelRelief& mLevel;
   int mUpper;
-  double mG, mInvLambda;
+  double mG;
 };
 
 /// Reports progress after every iteration of the last level (parameters updated in place).
@@ -175,100 +183,176 @@ inline bool ceresSparseAvailable() {
          ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE);
 }
 
-/// Solves the metric least-squares problem multi-scale; returns M at options.gridSize.
-inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options = {},
-                          const ProgressCallback& progress = {}, CeresReport* report = nullptr) {
-  checkGridSize(options.gridSize);
-  if (options.maxIterations < 1 || options.maxFinalIterations < 1 ||
-      !(options.functionTolerance > 0) || options.startGridSize < 2)
-    throw Error(ErrorKind::InvalidArgument, "ceres: iterations and tolerances must be positive");
-  OptimizerClock clock;
-  CeresReport rep;
-  const double lambda = std::sqrt(relief.surfaceArea());
-  const std::vector<int> levels = multiScaleSchedule(options.gridSize, options.startGridSize);
-  Grid grid(levels.front());
-  for (std::size_t l = 0; l < levels.size(); ++l) {
-    if (l > 0) grid = grid.resampled(levels[l]);
-    const bool last = l + 1 == levels.size();
-    const int g = grid.g(), side = g + 1;
-    // A coarse level sees the relief filtered to 4 texels per cell: its corners would otherwise
-    // sample texel-scale detail at random and the level would fit that noise (measured: on the
-    // full-size Sponza bricks at g = 256 the result was worse than the identity without it).
-    const ReliefMap filtered = last ? ReliefMap() : downsample(relief, 4 * g);
-    const ReliefMap& levelRelief = last ? relief : filtered;
-    std::vector<double> params(2 * grid.vertexCount());
-    for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
-      params[2 * k] = grid.u()[k];
-      params[2 * k + 1] = grid.v()[k];
-    }
+/// optimizeCeres as a stateful solver for repeated runs (geometry-central's function + solver
+/// pairs, as SpringSolver): each level's Ceres problem (its 2 g^2 residual blocks, the boundary's
+/// manifolds, the parameter storage) is built on first use and kept, and a later solve, on the same
+/// map or another, rebinds the level's relief and pays only for the minimization. solve() also
+/// takes a warm start: an earlier result (for example after the map's detail changed a little)
+/// is refined from its own level up, instead of from the identity at the coarsest.
+/// The options may change between solves (options()); levels are keyed by their size and by
+/// whether they are the last, since only the last sees the unfiltered relief.
+class CeresSolver {
+ public:
+  /// Throws Error for options out of range.
+  explicit CeresSolver(CeresOptions options = {}) : mOptions(std::move(options)) { checkOptions(); }
+
+  CeresOptions& options() { return mOptions; }
+  const CeresOptions& options() const { return mOptions; }
+
+  /// Solves multi-scale from the identity; returns M at options().gridSize.
+  Grid solve(const ReliefMap& relief, const ProgressCallback& progress = {}, CeresReport* report = nullptr) {
+    checkOptions();
+    const std::vector<int> levels = multiScaleSchedule(mOptions.gridSize, mOptions.startGridSize);
+    return solveLevels(relief, Grid(levels.front()), levels, progress, report);
+  }
+
+  /// Solves from `start` (a grid of at most options().gridSize cells per side): the levels of the
+  /// schedule from start's size up, start resampled to the first of them where it is not one.
+  Grid solve(const ReliefMap& relief, const Grid& start, const ProgressCallback& progress = {},
+             CeresReport* report = nullptr) {
+    checkOptions();
+    if (start.g() > mOptions.gridSize || !start.isFinite())
+      throw Error(ErrorKind::InvalidArgument, "ceres: a warm start of " + std::to_string(start.g()) +
+                                                  " cells per side, finite and at most the grid size " +
+                                                  std::to_string(mOptions.gridSize) + ", is needed");
+    std::vector<int> levels;
+    for (const int g : multiScaleSchedule(mOptions.gridSize, mOptions.startGridSize))
+      if (g >= start.g()) levels.push_back(g);
+    const Grid first = levels.front() == start.g() ? start : start.resampled(levels.front());
+    return solveLevels(relief, first, levels, progress, report);
+  }
+
+  /// Levels whose problems are built (for tests and memory accounting).
+  std::size_t builtLevels() const { return mLevels.size(); }
+
+ private:
+  struct Level {
+    detail::LevelRelief data;
+    std::vector<double> params;
+    ceres::SubsetManifold fixU{2, {0}}, fixV{2, {1}};
+    std::unique_ptr<ceres::Problem> problem;
+  };
+
+  void checkOptions() const {
+    checkGridSize(mOptions.gridSize);
+    if (mOptions.maxIterations < 1 || mOptions.maxFinalIterations < 1 || !(mOptions.functionTolerance > 0) ||
+        mOptions.startGridSize < 2)
+      throw Error(ErrorKind::InvalidArgument, "ceres: iterations and tolerances must be positive");
+  }
+
+  /// The level's problem over its own parameters: a residual block per triangle, corners fixed,
+  /// edge vertices sliding.
+  Level& levelOf(int g, bool last) {
+    std::unique_ptr<Level>& slot = mLevels[{g, last}];
+    if (slot) return *slot;
+    slot = std::make_unique<Level>();
+    Level& level = *slot;
+    const int side = g + 1;
+    level.params.assign(2 * std::size_t(side) * side, 0.0);
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    auto block = [&](int i, int j) { return &params[2 * (std::size_t(j) * side + i)]; };
+    level.problem = std::make_unique<ceres::Problem>(po);
+    ceres::Problem& problem = *level.problem;
+    auto block = [&](int i, int j) { return &level.params[2 * (std::size_t(j) * side + i)]; };
     for (int j = 0; j < g; ++j)
       for (int i = 0; i < g; ++i)
         for (int t = 0; t < 2; ++t) {
           const auto& tri = kCellTriangles[t];
-          problem.AddResidualBlock(new detail::TriangleMetricCost(levelRelief, t, g, lambda), nullptr,
-                                   block(i + tri[0][0], j + tri[0][1]),
-                                   block(i + tri[1][0], j + tri[1][1]),
+          problem.AddResidualBlock(new detail::TriangleMetricCost(level.data, t, g), nullptr,
+                                   block(i + tri[0][0], j + tri[0][1]), block(i + tri[1][0], j + tri[1][1]),
                                    block(i + tri[2][0], j + tri[2][1]));
         }
-    ceres::SubsetManifold fixU(2, {0}), fixV(2, {1});
     for (int j = 0; j <= g; ++j)
       for (int i = 0; i <= g; ++i) {
         const bool eu = i == 0 || i == g, ev = j == 0 || j == g;
         if (eu && ev)
           problem.SetParameterBlockConstant(block(i, j));
         else if (eu)
-          problem.SetManifold(block(i, j), &fixU);
+          problem.SetManifold(block(i, j), &level.fixU);
         else if (ev)
-          problem.SetManifold(block(i, j), &fixV);
+          problem.SetManifold(block(i, j), &level.fixV);
       }
+    return level;
+  }
+
+  ceres::Solver::Options solverOptions(bool last) const {
+    const CeresOptions& o = mOptions;
     ceres::Solver::Options so;
-    so.linear_solver_type = options.linearSolver;
+    so.linear_solver_type = o.linearSolver;
     if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE))
       so.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-    so.trust_region_strategy_type = options.dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
-    so.initial_trust_region_radius = options.initialTrustRegionRadius;
-    if (options.lbfgs) {
+    so.trust_region_strategy_type = o.dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+    so.initial_trust_region_radius = o.initialTrustRegionRadius;
+    if (o.lbfgs) {
       so.minimizer_type = ceres::LINE_SEARCH;
       so.line_search_direction_type = ceres::LBFGS;
     }
-    so.num_threads =
-        options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    so.max_num_iterations = last ? options.maxFinalIterations : options.maxIterations;
-    so.function_tolerance = last ? options.functionTolerance : options.coarseFunctionTolerance;
-    so.minimizer_progress_to_stdout = options.verbose;
-    so.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-    detail::ProgressIteration callback(params, grid, clock, progress, last);
-    if (progress && last) {
-      so.update_state_every_iteration = true;
-      so.callbacks.push_back(&callback);
-    }
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    if (!summary.IsSolutionUsable())
-      throw Error(ErrorKind::InvalidInput, "ceres: no usable solution at g = " + std::to_string(g) +
-                                               ": " + summary.message);
-    for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
-      grid.u()[k] = float(params[2 * k]);
-      grid.v()[k] = float(params[2 * k + 1]);
-    }
-    const int iterations = int(summary.iterations.size());
-    rep.iterations += iterations;
-    if (l == 0) rep.initialCost = summary.initial_cost;
-    if (last) {
-      rep.finalIterations = iterations;
-      rep.finalCost = summary.final_cost;
-      rep.summary = summary.FullReport();
-    }
-    clock.excluding(progress, grid,
-                    Progress{g, iterations, clock.seconds(), summary.final_cost, last, true});
+    so.num_threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    so.max_num_iterations = last ? o.maxFinalIterations : o.maxIterations;
+    so.function_tolerance = last ? o.functionTolerance : o.coarseFunctionTolerance;
+    so.minimizer_progress_to_stdout = o.verbose;
+    so.logging_type = o.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+    return so;
   }
-  rep.seconds = clock.seconds();
-  if (report) *report = rep;
-  return grid;
+
+  /// Solves `levels` in turn from `grid` (whose size is the first level's).
+  Grid solveLevels(const ReliefMap& relief, Grid grid, const std::vector<int>& levels, const ProgressCallback& progress,
+                   CeresReport* report) {
+    OptimizerClock clock;
+    CeresReport rep;
+    const double invLambda = 1.0 / std::sqrt(relief.surfaceArea());
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      if (l > 0) grid = grid.resampled(levels[l]);
+      const bool last = l + 1 == levels.size();
+      const int g = grid.g();
+      Level& level = levelOf(g, last);
+      // A coarse level sees the relief filtered to 4 texels per cell: its corners would otherwise
+      // sample texel-scale detail at random and the level would fit that noise (measured: on the
+      // full-size Sponza bricks at g = 256 the result was worse than the identity without it).
+      level.data.relief = last ? relief : downsample(relief, 4 * g);
+      level.data.invLambda = invLambda;
+      for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
+        level.params[2 * k] = grid.u()[k];
+        level.params[2 * k + 1] = grid.v()[k];
+      }
+      ceres::Solver::Options so = solverOptions(last);
+      detail::ProgressIteration callback(level.params, grid, clock, progress, last);
+      if (progress && last) {
+        so.update_state_every_iteration = true;
+        so.callbacks.push_back(&callback);
+      }
+      ceres::Solver::Summary summary;
+      ceres::Solve(so, level.problem.get(), &summary);
+      if (!summary.IsSolutionUsable())
+        throw Error(ErrorKind::InvalidInput, "ceres: no usable solution at g = " + std::to_string(g) + ": " + summary.message);
+      for (std::size_t k = 0; k < grid.vertexCount(); ++k) {
+        grid.u()[k] = float(level.params[2 * k]);
+        grid.v()[k] = float(level.params[2 * k + 1]);
+      }
+      const int iterations = int(summary.iterations.size());
+      rep.iterations += iterations;
+      if (l == 0) rep.initialCost = summary.initial_cost;
+      if (last) {
+        rep.finalIterations = iterations;
+        rep.finalCost = summary.final_cost;
+        rep.summary = summary.FullReport();
+      }
+      clock.excluding(progress, grid, Progress{g, iterations, clock.seconds(), summary.final_cost, last, true});
+    }
+    rep.seconds = clock.seconds();
+    if (report) *report = rep;
+    return grid;
+  }
+
+  CeresOptions mOptions;
+  std::map<std::pair<int, bool>, std::unique_ptr<Level>> mLevels;
+};
+
+/// Solves the metric least-squares problem multi-scale; returns M at options.gridSize (one solve of
+/// a CeresSolver).
+inline Grid optimizeCeres(const ReliefMap& relief, const CeresOptions& options = {},
+                          const ProgressCallback& progress = {}, CeresReport* report = nullptr) {
+  return CeresSolver(options).solve(relief, progress, report);
 }
 
 /// The Ceres optimizers for the table of optimizer_table.h: L-BFGS (the default minimizer) and
