@@ -1749,14 +1749,14 @@ vec3 pxRgba(int s, int offsetField, vec2 uv, bool repeat) {
   return out3;
 }
 
-// detail::bilinear over the indirection map (two floats per texel, clamped).
-vec2 pxIndirection(int s, vec2 uv) {
+// detail::bilinear over the indirection map (two floats per texel, wrapped as the relief).
+vec2 pxIndirection(int s, vec2 uv, bool repeat) {
   const uint base = pxInfo(s, CR_PX_INDIRECTION_OFFSET);
   const int w = int(pxInfo(s, CR_PX_INDIRECTION_OFFSET + 1)), h = int(pxInfo(s, CR_PX_INDIRECTION_OFFSET + 2));
   int x0, x1, y0, y1;
   float fx, fy;
-  pxAxis(uv.x, w, false, x0, x1, fx);
-  pxAxis(uv.y, h, false, y0, y1, fy);
+  pxAxis(uv.x, w, repeat, x0, x1, fx);
+  pxAxis(uv.y, h, repeat, y0, y1, fy);
   vec2 out2;
   for (int c = 0; c < 2; ++c) {
     const float a = pxLerp(uintBitsToFloat(pxWords[base + uint(2 * (y0 * w + x0) + c)]),
@@ -2021,7 +2021,7 @@ void pxShade(int s, SurfaceHit h, out vec3 normal, out vec3 base) {
   const float wl = length(w);
   normal = wl > 0.0 ? w / wl : normalize(h.rowW);
   vec2 st = h.uv;
-  if (pxInfo(s, CR_PX_INDIRECTION_OFFSET) != 0u) st += pxIndirection(s, h.uv);
+  if (pxInfo(s, CR_PX_INDIRECTION_OFFSET) != 0u) st += pxIndirection(s, h.uv, repeat);
   if (pxInfo(s, CR_PX_COLOR_OFFSET) != 0u) {
     base = pxRgba(s, CR_PX_COLOR_OFFSET, st, repeat);
   } else {

@@ -377,6 +377,27 @@ TEST(ParallaxTracer, AMeshWithoutUVsIsRefused) {
   EXPECT_THROW(ParallaxTracer{s}, Error);
 }
 
+TEST(ParallaxTracer, ATilingSurfaceRepeatsItsIndirectionMapWithItsTiles) {
+  // On a mesh whose UVs span several tiles, (u, v) and (u + 1, v + 2) are the same point of the map.
+  ReliefSurface s;
+  s.relief = bumps(32, 0.1f, Wrap::Repeat);
+  s.colors = Image<std::uint8_t>(16, 16, 3);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) s.colors.at(x, y, 0) = std::uint8_t(16 * x), s.colors.at(x, y, 1) = std::uint8_t(16 * y);
+  s.indirection = Image<float>(8, 8, 2);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) s.indirection.at(x, y, 0) = 0.05f * std::sin(float(x)), s.indirection.at(x, y, 1) = 0.04f * float(y % 3);
+  const ParallaxTracer tracer(s);
+  for (int i = 0; i < 20; ++i) {
+    ParallaxHit h;
+    h.t = 1;
+    h.uv = Vec2f(0.013f + 0.049f * float(i), 0.97f - 0.047f * float(i));
+    ParallaxHit far = h;
+    far.uv += Vec2f(1.0f, 2.0f);
+    EXPECT_LT(glm::length(tracer.colorAt(h) - tracer.colorAt(far)), 1e-4f) << i;
+  }
+}
+
 TEST(ParallaxTracer, ASurfaceThatIsNotASquareTileIsRefused) {
   ReliefSurface s;
   s.relief = ramp(8, 0.1f);

@@ -196,7 +196,8 @@ class ParallaxTracer {
     const indirection::ReliefSurface& s = *mSurface;
     Vec2f st = hit.uv;
     if (s.hasIndirection()) {
-      const Vec4f offset = detail::bilinear(s.indirection, hit.uv, false, 2);
+      // Wrapped as the relief is: a tiling map's offsets repeat with it (a mesh's UVs may span tiles).
+      const Vec4f offset = detail::bilinear(s.indirection, hit.uv, repeats(), 2);
       st += Vec2f(offset.x, offset.y);
     }
     if (!s.colors.isEmpty()) return Vec3f(detail::bilinear(s.colors, st, repeats(), 3));
