@@ -82,6 +82,20 @@ cellrelief_optional(OpenGL DEBIAN "libegl-dev libegl1-mesa-dev" FIND OpenGL COMP
                     FOUND_VAR OpenGL_EGL_FOUND)
 cellrelief_optional(GLFW DEBIAN libglfw3-dev FIND glfw3 CONFIG FOUND_VAR glfw3_FOUND)
 cellrelief_optional(Vulkan DEBIAN "libvulkan-dev glslc" FIND Vulkan COMPONENTS glslc)
+if(CELLRELIEF_BUILD_APPS)  # the Python module (apps/python); its tests need python3-numpy and python3-pytest
+  # Built for, and tested with, Debian's interpreter, whose python3-numpy, python3-pytest and
+  # python3-matplotlib the setup script installs: a pyenv or virtualenv python3 first on PATH would
+  # not see them. Set CELLRELIEF_PYTHON_EXECUTABLE for another one.
+  if(EXISTS /usr/bin/python3)
+    set(_cellrelief_python /usr/bin/python3)
+  else()
+    find_program(_cellrelief_python python3)
+  endif()
+  set(CELLRELIEF_PYTHON_EXECUTABLE "${_cellrelief_python}" CACHE FILEPATH "The Python the module is built for")
+  set(Python_EXECUTABLE "${CELLRELIEF_PYTHON_EXECUTABLE}")
+  set(PYBIND11_FINDPYTHON ON)  # pybind11 through CMake's FindPython, with the interpreter above
+  cellrelief_optional(PYTHON DEBIAN "pybind11-dev python3-dev" FIND pybind11 CONFIG FOUND_VAR pybind11_FOUND)
+endif()
 
 function(cellrelief_report_dependencies)
   message(STATUS "cellrelief dependencies:")
