@@ -95,6 +95,21 @@ if(CELLRELIEF_BUILD_APPS)  # the Python module (apps/python); its tests need pyt
   set(Python_EXECUTABLE "${CELLRELIEF_PYTHON_EXECUTABLE}")
   set(PYBIND11_FINDPYTHON ON)  # pybind11 through CMake's FindPython, with the interpreter above
   cellrelief_optional(PYTHON DEBIAN "pybind11-dev python3-dev" FIND pybind11 CONFIG FOUND_VAR pybind11_FOUND)
+  # matplotlib draws the benchmarks' figures from their CSV at run time (apps/plots); without it
+  # they say so and write the CSV alone.
+  set(CELLRELIEF_HAS_MATPLOTLIB OFF)
+  if(CELLRELIEF_PYTHON_EXECUTABLE)
+    execute_process(COMMAND "${CELLRELIEF_PYTHON_EXECUTABLE}" -c "import matplotlib" RESULT_VARIABLE _mpl
+                    OUTPUT_QUIET ERROR_QUIET)
+    if(_mpl EQUAL 0)
+      set(CELLRELIEF_HAS_MATPLOTLIB ON)
+    endif()
+  endif()
+  if(CELLRELIEF_HAS_MATPLOTLIB)
+    cellrelief_note_dependency(matplotlib "enabled" "the benchmarks' figures")
+  else()
+    cellrelief_note_dependency(matplotlib "absent" "install Debian package 'python3-matplotlib' for the figures")
+  endif()
 endif()
 
 function(cellrelief_report_dependencies)
@@ -105,7 +120,7 @@ function(cellrelief_report_dependencies)
     list(GET fields 1 state)
     list(GET fields 2 detail)
     string(LENGTH "${name}" len)
-    math(EXPR pad "10 - ${len}")
+    math(EXPR pad "12 - ${len}")
     string(REPEAT " " ${pad} spaces)
     message(STATUS "  ${name}${spaces}${state}  ${detail}")
   endforeach()

@@ -28,7 +28,7 @@
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/frame_comparison.h>
 
-#include "../common/plot.h"
+#include "../common/plot_script.h"
 #include "bench_common.h"
 
 using namespace cellrelief;
@@ -179,9 +179,6 @@ int main(int argc, char** argv) {
                        "vs_cpu_shaded,mask_disagreement,median_depth_texels,p95_depth_texels,scene_bytes");
   std::printf("%d threads (LP_NUM_THREADS=%s); %dx%d pixels from a framing camera; median of %d frames\n",
               options.threads, std::getenv("LP_NUM_THREADS"), width, height, repeats);
-  std::vector<app::PlotSeries> series;
-  std::map<std::string, std::size_t> seriesOf;
-  int meshIndex = 0;
   for (const auto& [name, mesh] : meshes) {
     const auto model = std::make_shared<relief::ReliefModel>(relief::convert(mesh));
     const render::Scene scene = render::Scene::of(model);
@@ -250,31 +247,15 @@ int main(int argc, char** argv) {
               primary, shaded,
               r.m.shadowRays, cpu.primarySeconds / r.m.primarySeconds, cpu.shadedSeconds / r.m.shadedSeconds,
               a.maskFraction, a.medianTexels, a.p95Texels, r.m.bytes);
-      if (!seriesOf.count(r.backend)) {
-        seriesOf[r.backend] = series.size();
-        series.push_back({r.backend, {}, {}, app::Plot::palette(series.size()), false});
-      }
-      app::PlotSeries& s = series[seriesOf[r.backend]];
-      s.x.push_back(meshIndex);
-      s.y.push_back(primary);
     }
-    ++meshIndex;
   }
-  app::Plot plot;
-  plot.title = "Primary rays per backend, " + std::to_string(options.threads) + " threads (x: ";
-  for (std::size_t i = 0; i < meshes.size(); ++i) plot.title += (i ? ", " : "") + std::to_string(i) + " " + meshes[i].first;
-  plot.title += ")";
-  plot.xLabel = "mesh";
-  plot.yLabel = "Mrays/s";
-  plot.logY = true;
-  plot.series = series;
   const std::filesystem::path png = std::filesystem::path(options.out) / "backends.png";
-  plot.write(png);
+  app::drawPlot("plot_backends", csv.path(), png);
   std::printf("\nvs cpu = the CPU reference's time / this backend's on the same frame; first s = upload and "
               "the first frame (tracers built, the shader variant compiled or read from Mesa's disk cache; "
               "Embree: its BVH build); mask and depth: "
               "agreement of the primary frame with the CPU reference (depth in sample spacings; Embree "
-              "is the original mesh, so its figures are the relief model's own error)\nwrote %s and %s\n",
+              "is the original mesh, so its figures are the relief model's own error)\nwrote %s (plot: %s)\n",
               csv.path().c_str(), png.c_str());
   return 0;
 }

@@ -9,8 +9,8 @@
 /// representation. In the same run: Embree's rtcIntersect1 on the original mesh, and OpenVDB's
 /// LevelSetRayIntersector on meshToLevelSet grids with the voxel size matched to our error and,
 /// separately, to our memory; and memory at equal error, against our smallest setting and our memory
-/// curve. Writes trace.csv, a plot of the Pareto front (trace_pareto.png) and one of bytes against
-/// error (trace_memory.png).
+/// curve. Writes trace.csv, and from it (apps/plots, matplotlib) a plot of the Pareto front
+/// (trace_pareto.png) and one of bytes against error (trace_memory.png).
 ///
 ///   bench_trace [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 512]
 #include <atomic>
@@ -30,7 +30,7 @@
 #include <openvdb/tools/RayIntersector.h>
 #include <tbb/enumerable_thread_specific.h>
 
-#include "../common/plot.h"
+#include "../common/plot_script.h"
 #include "bench_common.h"
 
 using namespace cellrelief;
@@ -227,8 +227,6 @@ int main(int argc, char** argv) {
                        "mesh,method,N,T,bits,min_linear,max_linear,binary,skip,bytes,primary_mrays,"
                        "secondary_mrays,steps_per_ray,median_error_texels,p95_error_texels,median_error_diag,"
                        "p95_error_diag,disagreements_per_million,secondary_disagreements_per_million");
-  std::vector<app::PlotSeries> plotSeries;
-  app::Plot memoryPlot;
   std::printf("threads: %d; primary rays %dx%d from a framing camera; secondary rays: random outer "
               "hemisphere directions from points on the surface, shuffled\n", options.threads, size, size);
   for (const auto& [name, mesh] : meshes) {
@@ -276,7 +274,7 @@ int main(int argc, char** argv) {
         if (n > automatic.gridSize)
           for (int texels : texelChoices)
             for (int skip : {2, 0}) sweep.push_back({n, texels, 4, 64, 8, skip});
-    std::vector<double> frontError, frontSpeed, allError, allSpeed, allBytes;
+    std::vector<double> allError, allSpeed, allBytes;
     std::vector<MemoryPoint> memoryPoints;
     double bestMatchedError = INFINITY, ourBytesAtBest = 0, ourSpeedAtBest = 0;
     std::shared_ptr<relief::ReliefModel> model;
@@ -325,21 +323,6 @@ int main(int argc, char** argv) {
         ourBytesAtBest = double(bytes);
       }
     }
-    // The Pareto front: no other point is both faster and more accurate.
-    for (std::size_t i = 0; i < allError.size(); ++i) {
-      bool dominated = false;
-      for (std::size_t j = 0; j < allError.size() && !dominated; ++j)
-        dominated = j != i && allError[j] <= allError[i] && allSpeed[j] >= allSpeed[i] &&
-                    (allError[j] < allError[i] || allSpeed[j] > allSpeed[i]);
-      if (!dominated) frontError.push_back(allError[i]), frontSpeed.push_back(allSpeed[i]);
-    }
-    std::vector<std::size_t> order(frontError.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return frontError[a] < frontError[b]; });
-    app::PlotSeries all{name + " sweep", allError, allSpeed, app::Plot::palette(plotSeries.size() / 3 * 3), false};
-    app::PlotSeries front{name + " pareto front", {}, {}, all.color, true};
-    for (std::size_t i : order) front.x.push_back(frontError[i]), front.y.push_back(frontSpeed[i]);
-
     // OpenVDB level sets: voxel = diagonal / 2^k. Matched to our error: the coarsest whose median
     // depth error is at most ours; matched to our memory: the one closest to our bytes.
     struct LevelSetRun {
@@ -379,27 +362,6 @@ int main(int argc, char** argv) {
                     "%.0f bytes (%.1fx smaller)\n", setting, double(runs.back().bytes) / setting, curve,
                     double(runs.back().bytes) / curve);
     }
-    app::PlotSeries vdb{name + " OpenVDB level sets", {}, {}, app::Plot::palette(plotSeries.size() / 3 * 3 + 1), true};
-    for (const auto& r : runs) vdb.x.push_back(r.median / diagonal), vdb.y.push_back(r.mrays);
-    app::PlotSeries emb{name + " Embree (exact)", {diagonal * 1e-7 / diagonal}, {embreeMraysPrimary},
-                        app::Plot::palette(plotSeries.size() / 3 * 3 + 2), false};
-    {
-      // Memory against error: every setting, our least memory per error, OpenVDB's level sets.
-      const std::size_t c = memoryPlot.series.size();
-      app::PlotSeries points{name + " settings", {}, {}, app::Plot::palette(c), false};
-      app::PlotSeries curve{name + " least memory", {}, {}, points.color, true};
-      app::PlotSeries levelSets{name + " OpenVDB level sets", {}, {}, app::Plot::palette(c + 1), true};
-      for (const MemoryPoint& p : memoryPoints) points.x.push_back(p.error), points.y.push_back(p.bytes);
-      for (const MemoryPoint& p : leastMemory) curve.x.push_back(p.error), curve.y.push_back(p.bytes);
-      for (const auto& r : runs) levelSets.x.push_back(r.median / diagonal), levelSets.y.push_back(double(r.bytes));
-      memoryPlot.series.push_back(std::move(points));
-      memoryPlot.series.push_back(std::move(curve));
-      memoryPlot.series.push_back(std::move(levelSets));
-    }
-    plotSeries.push_back(std::move(all));
-    plotSeries.push_back(std::move(front));
-    plotSeries.push_back(std::move(vdb));
-    plotSeries.push_back(std::move(emb));
     if (std::isfinite(bestMatchedError)) {
       const LevelSetRun* byError = nullptr;
       for (const auto& r : runs)
@@ -428,25 +390,14 @@ int main(int argc, char** argv) {
                   byMemory->mrays, byMemory->median / diagonal, bestMatchedError / diagonal);
     }
   }
-  memoryPlot.title = "Relief models against OpenVDB level sets: memory at equal error";
-  memoryPlot.xLabel = "median depth error / diagonal";
-  memoryPlot.yLabel = "bytes";
-  memoryPlot.logX = true;
-  memoryPlot.logY = true;
-  const std::filesystem::path memoryPng = std::filesystem::path(options.out) / "trace_memory.png";
-  memoryPlot.write(memoryPng);
-  app::Plot plot;
-  plot.title = "Relief ray casting: primary rays, " + std::to_string(options.threads) + " threads";
-  plot.xLabel = "median depth error / diagonal";
-  plot.yLabel = "Mrays/s";
-  plot.logX = true;
-  plot.logY = true;
-  plot.series = std::move(plotSeries);
+  // The figures, drawn from the CSV by matplotlib (apps/plots).
   const std::filesystem::path png = std::filesystem::path(options.out) / "trace_pareto.png";
-  plot.write(png);
+  const std::filesystem::path memoryPng = std::filesystem::path(options.out) / "trace_memory.png";
+  app::drawPlot("plot_trace_pareto", csv.path(), png);
+  app::drawPlot("plot_trace_memory", csv.path(), memoryPng);
   std::printf("\nvs Emb = our rays per second / Embree's on the same rays and threads; memory = Embree's "
               "mesh + BVH bytes / ours (model + pyramid); med tx = median depth error in sample spacings "
               "(texels); dis/M = hit/miss disagreements with Embree per million rays. Embree is drawn at "
-              "1e-7 (exact).\nwrote %s, %s and %s\n", csv.path().c_str(), png.c_str(), memoryPng.c_str());
+              "1e-7 (exact).\nwrote %s (plots: %s and %s)\n", csv.path().c_str(), png.c_str(), memoryPng.c_str());
   return 0;
 }

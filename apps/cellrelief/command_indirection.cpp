@@ -25,7 +25,7 @@
 #endif
 
 #include "commands.h"
-#include "../common/plot.h"
+#include "../common/plot_script.h"
 
 namespace cellrelief::app {
 
@@ -261,6 +261,8 @@ int runCompareOptimizers(CompareOptimizersCli o) {
       run.map = name;
       run.optimizer = opt;
       run.curve.push_back({0.0, identity});
+      csv << name << "," << opt << ",0," << o.grid << "," << identity.l2Stretch << "," << identity.angleMean << ","
+          << identity.areaMean << "," << identity.angleMax << "," << identity.flippedCells << "\n";
       // Distortion of the map as it stands, at the target g (coarse levels refined to it, which is
       // the map one would get by stopping there). Not charged to the optimizer's time.
       auto progress = [&](const Grid& grid, const Progress& p) {
@@ -303,33 +305,20 @@ int runCompareOptimizers(CompareOptimizersCli o) {
   std::map<std::string, double> best;
   for (const Run& r : runs)
     best[r.map] = best.count(r.map) ? std::min(best[r.map], r.final.l2Stretch) : r.final.l2Stretch;
-  Plot plot;
-  plot.title = "Convergence: L2 stretch on the relief surface, g = " + std::to_string(o.grid);
-  plot.xLabel = "optimizer time (s)";
-  plot.yLabel = "L2 stretch";
   for (const Run& r : runs) {
     std::printf("%-22s %-13s %10s %10s %10s %9.4f %9.4f %9.4f %9.4f %6zu\n", r.map.c_str(),
                 r.optimizer.c_str(), fmtTime(timeToReach(r, best[r.map], 0.05)).c_str(),
                 fmtTime(timeToReach(r, best[r.map], 0.01)).c_str(), fmtTime(r.seconds).c_str(),
                 r.final.l2Stretch, r.finalCorners.l2Stretch, r.final.angleMean, r.final.areaMean,
                 r.final.flippedCells);
-    PlotSeries s;
-    s.name = r.map + " " + r.optimizer;
-    s.color = Plot::palette(plot.series.size());
-    s.lines = true;
-    for (const Sample& p : r.curve) {
-      s.x.push_back(p.seconds);
-      s.y.push_back(p.d.l2Stretch);
-    }
-    plot.series.push_back(std::move(s));
   }
   std::printf("(times exclude the distortion measurements; L2: stretch per texel, which the 'to' "
               "columns use; 'to 1%%': excess L2 stretch - 1 within 1%% of the best final of that "
               "map)\n");
   printSpeedupOverSprings(runs);
-  plot.write(std::filesystem::path(o.out) / "indirection_convergence.png");
-  std::printf("wrote %s/indirection_convergence.csv, indirection_convergence.png%s\n",
-              o.out.c_str(), o.pictures ? " and the parallax pictures" : "");
+  const std::filesystem::path out(o.out);
+  drawPlot("plot_convergence", out / "indirection_convergence.csv", out / "indirection_convergence.png");
+  std::printf("wrote %s/indirection_convergence.csv%s\n", o.out.c_str(), o.pictures ? " and the parallax pictures" : "");
   return 0;
 }
 
