@@ -14,10 +14,8 @@
 #include <cellrelief/cpu/cpu_backend.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
-#include <cellrelief/polycube/from_mesh.h>
 #include <cellrelief/polycube/levels_of_detail.h>
-#include <cellrelief/polycube/mesh_signal.h>
-#include <cellrelief/polycube/parameterization.h>
+#include <cellrelief/polycube/mesh_map.h>
 #include <cellrelief/polycube/polycube_file.h>
 #include <cellrelief/polycube/polycube_result.h>
 
@@ -44,16 +42,6 @@ std::optional<polycube::MeshSignalKind> parseSignal(const PolycubeCommandOptions
       return k;
     }
   throw Error(ErrorKind::InvalidArgument, "--signal: '" + o.signal + "' is not grid, normals, shading or color");
-}
-
-/// T2 of the chosen signal: the paper's grid pattern, or the mesh's normals, shading or colours.
-polycube::PolycubeTexture bakeSignal(const PolycubeCommandOptions& o, std::optional<polycube::MeshSignalKind> kind,
-                                     const TriangleMesh& mesh, std::span<const Vec3d> texture,
-                                     std::shared_ptr<const polycube::PolycubeSurface> surface) {
-  const polycube::SurfaceSignal signal =
-      kind ? polycube::meshSignal(std::make_shared<const polycube::InverseMap>(mesh, texture), *kind)
-           : polycube::gridSignalFor(o.texels);
-  return polycube::PolycubeTexture(std::move(surface), signal, {o.texels});
 }
 
 /// The mesh textured through its map, rendered by the CPU reference from the preview's view.
@@ -116,17 +104,6 @@ TriangleMesh meshByTexture(const TriangleMesh& mesh, std::span<const Vec3d> text
   return out;
 }
 
-/// A given polycube without a frame is placed over the mesh: centred on its bounds, scaled
-/// uniformly so its largest extent is the mesh's.
-polycube::PolycubeFrame fitFrame(const polycube::Polycube& p, const TriangleMesh& mesh) {
-  const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
-  const Vec3d lo(p.minCube()), hi(Vec3d(p.maxCube()) + Vec3d(1));
-  const Vec3d meshExtent = bounds.max - bounds.min, cubeExtent = hi - lo;
-  const double size = std::max({meshExtent.x, meshExtent.y, meshExtent.z}) /
-                      std::max({cubeExtent.x, cubeExtent.y, cubeExtent.z});
-  return {bounds.center() - size * 0.5 * (lo + hi), size};
-}
-
 /// The paper's Table 1 columns for this map, before and after optimization.
 void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& mesh, const polycube::Polycube& cubes,
                           const polycube::PolycubeParameterization& map, const std::filesystem::path& path) {
@@ -147,39 +124,23 @@ void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& m
 int runPolycube(const PolycubeCommandOptions& o) {
   const TriangleMesh mesh = io::readMesh(o.mesh);
   std::printf("mesh          %s: %zu triangles\n", o.mesh.c_str(), mesh.triangleCount());
-  polycube::Polycube cubes;
-  polycube::PolycubeFrame frame;
-  const std::optional<int> meshGenus = polycube::cappedGenus(analyzeTopology(mesh));
+  polycube::PolycubeDomain domain;
   if (!o.cubes.empty()) {
-    polycube::PolycubeFile file = polycube::readPolycube(o.cubes);
-    frame = file.hasFrame ? file.frame : fitFrame(file.polycube, mesh);
-    cubes = std::move(file.polycube);
-    const std::vector<Vec3i> bad = cubes.nonManifoldVertices();
-    if (!bad.empty())
-      throw Error(ErrorKind::InvalidInput, o.cubes,
-                  "the polycube's surface is not a 2-manifold at " + std::to_string(bad.size()) +
-                      " lattice vertices, the first (" + std::to_string(bad[0].x) + ", " + std::to_string(bad[0].y) +
-                      ", " + std::to_string(bad[0].z) + "): cubes meet only along an edge or at a corner there");
-    const polycube::SurfaceStats s = cubes.surfaceStats();
-    if (s.components != 1)
-      throw Error(ErrorKind::InvalidInput, o.cubes,
-                  "the polycube's surface has " + std::to_string(s.components) + " pieces; it must be one");
-    if (meshGenus && s.genus() != meshGenus)
-      throw Error(ErrorKind::InvalidInput, o.cubes,
-                  "the polycube has genus " + std::to_string(*s.genus()) + ", the mesh " + std::to_string(*meshGenus));
-    std::printf("polycube      %s: %zu cubes\n", o.cubes.c_str(), cubes.size());
+    domain = polycube::givenDomain(mesh, polycube::readPolycube(o.cubes), o.cubes);
+    std::printf("polycube      %s: %zu cubes\n", o.cubes.c_str(), domain.polycube.size());
   } else {
     polycube::PolycubeOptions options;
     options.cubesPerSide = parseGridSize(o.grid);
-    const polycube::PolycubeResult r = withPath(o.mesh, [&] { return polycube::polycubeOfMesh(mesh, options); });
-    for (const polycube::PolycubeTrial& t : r.trials)
+    domain = withPath(o.mesh, [&] { return polycube::automaticDomain(mesh, options); });
+    for (const polycube::PolycubeTrial& t : domain.search->trials)
       std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness, %zu toggled to remove case-6b "
                   "vertices, %zu left), %s\n", t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bToggled, t.case6bLeft,
                   t.genus ? ("genus " + std::to_string(*t.genus)).c_str() : "not a closed manifold");
-    std::printf("chosen        N = %d, %.2f s\n", r.cubesPerSide, r.seconds);
-    cubes = r.polycube;
-    frame = r.frame;
+    std::printf("chosen        N = %d, %.2f s\n", domain.search->cubesPerSide, domain.search->seconds);
   }
+  const polycube::Polycube& cubes = domain.polycube;
+  const polycube::PolycubeFrame& frame = domain.frame;
+  const std::optional<int>& meshGenus = domain.meshGenus;
   const polycube::SurfaceStats s = cubes.surfaceStats();
   std::printf("surface       %zu faces, %zu vertices, genus %d (mesh: %s)\n", s.faces, s.vertices, s.genus().value_or(-1),
               meshGenus ? std::to_string(*meshGenus).c_str() : "unknown: not one manifold piece");
@@ -194,7 +155,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
   const auto sharedDomain = withPath(o.cubes.empty() ? o.mesh : o.cubes, [&] {
     return std::make_shared<const polycube::PolycubeSurface>(cubes);
   });
-  const polycube::PolycubeSurface& domain = *sharedDomain;
+  const polycube::PolycubeSurface& surface = *sharedDomain;
   polycube::ParameterizationOptions mapOptions;
   mapOptions.energy = *energy;
   mapOptions.maxSweeps = o.sweeps;
@@ -204,7 +165,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
                   d.stretchEfficiency, d.flipped);
   };
   const polycube::PolycubeParameterization map =
-      withPath(o.mesh, [&] { return polycube::parameterize(mesh, domain, frame, mapOptions); });
+      withPath(o.mesh, [&] { return polycube::parameterize(mesh, surface, frame, mapOptions); });
   if (map.coarseVertices > 0)
     std::printf("map           started from its decimation to %zu vertices (%d sweeps)\n", map.coarseVertices,
                 map.coarseSweeps);
@@ -212,20 +173,16 @@ int runPolycube(const PolycubeCommandOptions& o) {
   std::printf("distortion    %-9s %8s %8s %10s %8s\n", "", "area", "angle", "stretch", "flipped");
   for (const auto& [name, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
     std::printf("              %-9s %8.4f %8.4f %10.3f %8zu\n", name, d.area, d.angle, d.stretchEfficiency, d.flipped);
-  if (map.final.flipped > 0)
-    throw Error(ErrorKind::InvalidInput, o.mesh,
-                "the map onto the polycube still folds " + std::to_string(map.final.flipped) + " of " +
-                    std::to_string(mesh.triangleCount()) + " triangles after " + std::to_string(map.sweeps) +
-                    " sweeps: a feature is likely thinner than a cube or the polycube misses it; try another --grid, "
-                    "more --sweeps or a polycube of your own (--cubes)");
+  polycube::requireUnfolded(map, mesh, o.mesh);
 
   const auto t2 = std::make_shared<const polycube::PolycubeTexture>(
-      withPath(o.mesh, [&] { return bakeSignal(o, signalKind, mesh, map.texture, sharedDomain); }));
+      withPath(o.mesh, [&] {
+        return polycube::bakeSignal(mesh, map.texture, sharedDomain, signalKind, o.texels);
+      }));
   std::printf("T2            %s, %d texels per squarelet, %u squarelets, %d x %d texels with %d mip levels (%.1f MB)\n",
-              o.signal.c_str(), o.texels, domain.lut().tileCount(), t2->atlas().width(), t2->atlas().height(),
+              o.signal.c_str(), o.texels, surface.lut().tileCount(), t2->atlas().width(), t2->atlas().height(),
               t2->levelCount(), t2->byteSize() / 1e6);
-  const polycube::TextureUse use =
-      signalKind == polycube::MeshSignalKind::Normal ? polycube::TextureUse::Normal : polycube::TextureUse::Color;
+  const polycube::TextureUse use = polycube::textureUseOf(signalKind);
   const Image<std::uint8_t> picture = renderTextured(mesh, map.texture, t2, use);
   Image<std::uint8_t> coarsePicture;
   if (use == polycube::TextureUse::Normal) {
@@ -234,7 +191,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
     const TriangleMesh coarse = polycube::decimate(mesh, std::max<std::size_t>(200, mesh.positions.size() / 10));
     const std::vector<Vec3d> coarseTexture = polycube::transferTexturePositions(
         polycube::latticePositions(mesh, frame), mesh.triangles, map.texture,
-        polycube::latticePositions(coarse, frame), domain);
+        polycube::latticePositions(coarse, frame), surface);
     coarsePicture = renderTextured(coarse, coarseTexture, t2, use);
     std::printf("level of detail %zu of %zu triangles, textured through the same map\n", coarse.triangleCount(),
                 mesh.triangleCount());
@@ -242,15 +199,12 @@ int runPolycube(const PolycubeCommandOptions& o) {
 
   const std::filesystem::path dir(o.output);
   std::filesystem::create_directories(dir);
-  polycube::writePolycube(cubes, frame, dir / "polycube.txt");
-  const TriangleMesh surface = surfaceByCase(cubes, frame);
-  io::writeMesh(surface, dir / "polycube_surface.ply");
-  writePreview(surface, dir / "polycube_cases.png");
-  polycube::writeTexturedMesh(mesh, map.texture, dir / "mesh_texture.obj");
-  writePreview(meshByTexture(mesh, map.texture, domain), dir / "polycube_map.png");
+  polycube::writePolycubeResult(dir, cubes, frame, mesh, map.texture, *t2, use);
+  const TriangleMesh casesMesh = surfaceByCase(cubes, frame);
+  io::writeMesh(casesMesh, dir / "polycube_surface.ply");
+  writePreview(casesMesh, dir / "polycube_cases.png");
+  writePreview(meshByTexture(mesh, map.texture, surface), dir / "polycube_map.png");
   writeDistortionTable(o, mesh, cubes, map, dir / "distortion.csv");
-  io::writePng(t2->atlas(), dir / polycube::kResultTexture);
-  polycube::writeTextureInfo(*t2, use, dir / polycube::kResultTextureInfo);
   io::writePng(picture, dir / "polycube_render.png");
   if (!coarsePicture.isEmpty()) io::writePng(coarsePicture, dir / "polycube_render_lod.png");
   std::printf("wrote         %s: polycube.txt, polycube_surface.ply, polycube_cases.png (vertices coloured by "

@@ -194,7 +194,7 @@ indirection map (as `cellrelief indirect` or indirection_map + a file writes it)
 normal map, on the square (origin, u_axis, v_axis) or carved into base_mesh (a Mesh with UVs, or a
 path), its maps repeated uv_scale times.)");
 
-  py::class_<Scene>(m, "Scene", "What a backend renders: models, geometry textures and relief surfaces, and lights.")
+  py::class_<Scene>(m, "Scene", "What a backend renders: relief models, geometry textures, relief surfaces and polycube maps, and lights.")
       .def(py::init<>())
       .def(
           "add", [](Scene& s, const std::shared_ptr<relief::ReliefModel>& model) { s.models.push_back(model); },
@@ -206,7 +206,7 @@ path), its maps repeated uv_scale times.)");
           "add", [](Scene& s, const std::shared_ptr<indirection::ReliefSurface>& surface) {
             s.reliefSurfaces.push_back(surface);
           },
-          py::arg("surface"), "Adds a ReliefModel, GeoTexModel or ReliefSurface.")
+          py::arg("surface"), "Adds a ReliefModel, GeoTexModel, ReliefSurface or PolycubeMap.")
       .def(
           "add_light",
           [](Scene& s, const py::object& direction, const py::object& color, float intensity) {
@@ -232,7 +232,8 @@ path), its maps repeated uv_scale times.)");
       .def("__repr__", [](const Scene& s) {
         return "<cellrelief.Scene " + std::to_string(s.models.size()) + " relief models, " +
                std::to_string(s.geotexModels.size()) + " geometry textures, " + std::to_string(s.reliefSurfaces.size()) +
-               " relief surfaces, " + std::to_string(s.lights.size()) + " lights>";
+               " relief surfaces, " + std::to_string(s.polycubeMeshes.size()) + " polycube maps, " +
+               std::to_string(s.lights.size()) + " lights>";
       });
 
   py::class_<Camera>(m, "Camera", "A pinhole camera: eye, target, up and a vertical field of view in degrees.")

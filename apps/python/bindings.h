@@ -33,6 +33,8 @@ void bindRelief(py::module_& m);
 void bindRendering(py::module_& m);
 void bindIndirection(py::module_& m);
 void bindGeoTex(py::module_& m);
+/// After bindRendering: it adds Scene.add(PolycubeMap).
+void bindPolycube(py::module_& m);
 
 /// Thrown out of long work when Python has a signal pending (Ctrl-C): the binding re-raises the
 /// Python exception (KeyboardInterrupt) once the work has unwound.

@@ -63,7 +63,7 @@ void bindErrors(py::module_& m) {
 PYBIND11_MODULE(_cellrelief, m) {
   namespace cp = cellrelief::python;
   m.doc() = "cellrelief: relief representations of surfaces (cubic cell complexes, geometry textures, "
-            "indirection maps) and their ray tracing on the CPU, OpenGL and Vulkan, with NumPy arrays in and out.";
+            "indirection maps, polycube maps) and their ray tracing on the CPU, OpenGL and Vulkan, with NumPy arrays in and out.";
   m.attr("__version__") = CELLRELIEF_VERSION_STRING;
   cp::bindErrors(m);
   cp::bindMeshes(m);
@@ -71,4 +71,5 @@ PYBIND11_MODULE(_cellrelief, m) {
   cp::bindGeoTex(m);
   cp::bindIndirection(m);
   cp::bindRendering(m);
+  cp::bindPolycube(m);
 }

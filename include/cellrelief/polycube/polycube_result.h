@@ -86,6 +86,18 @@ inline TextureInfo readTextureInfo(const std::filesystem::path& path) {
   return info;
 }
 
+/// Writes what readPolycubeResult reads back into `dir` (made when missing): the cubes with their
+/// frame, the mesh with its texture positions, T2 and what it holds. Each file atomically.
+inline void writePolycubeResult(const std::filesystem::path& dir, const Polycube& cubes, const PolycubeFrame& frame,
+                                const TriangleMesh& mesh, std::span<const Vec3d> texture, const PolycubeTexture& t2,
+                                TextureUse use) {
+  std::filesystem::create_directories(dir);
+  writePolycube(cubes, frame, dir / kResultCubes);
+  writeTexturedMesh(mesh, texture, dir / kResultMesh);
+  io::writePng(t2.atlas(), dir / kResultTexture);
+  writeTextureInfo(t2, use, dir / kResultTextureInfo);
+}
+
 /// The result in `dir` as a textured mesh in world space. Every error names the file it is about.
 inline std::shared_ptr<TexturedMesh> readPolycubeResult(const std::filesystem::path& dir) {
   const PolycubeFile cubes = readPolycube(dir / kResultCubes);
