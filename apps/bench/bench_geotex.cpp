@@ -7,9 +7,14 @@
 ///     error and hit/miss disagreement over primary rays), beside the cell complex (relief) at
 ///     about equal bytes; rays per second of the CPU tracer against Embree's rtcIntersect1 on the
 ///     same rays and threads.
-/// Writes geotex_vsa.csv and geotex_representation.csv.
+///  3. The paper's Fig. 7: frame time of the geometry textures ray cast by the OpenGL backend against
+///     the full mesh rasterized by OpenGL (gl::MeshRasterizer), as the image grows, and the largest
+///     image at which ray casting is the faster (the crossover).
+/// Writes geotex_vsa.csv, geotex_representation.csv and geotex_fig7.csv (plot: geotex_fig7.png).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <vector>
 
 #include <cellrelief/cgal/reference_vsa.h>
 #include <cellrelief/cpu/cpu_backend.h>
@@ -18,8 +23,13 @@
 #include <cellrelief/io/mesh_io.h>
 #include <cellrelief/metrics/ray_comparison.h>
 #include <cellrelief/relief/convert.h>
+#ifdef CELLRELIEF_HAS_OPENGL
+#include <cellrelief/gl/gl_backend.h>
+#include <cellrelief/gl/mesh_rasterizer.h>
+#endif
 
 #include "bench_common.h"
+#include "../common/plot_script.h"
 
 namespace cellrelief::bench {
 namespace {
@@ -71,11 +81,18 @@ Accuracy measure(const render::Scene& scene, const render::Camera& camera, const
   return a;
 }
 
-void compareRepresentations(const std::string& name, const TriangleMesh& mesh, int size, int repeats, CsvWriter& csv) {
-  const embree::EmbreeScene embree(mesh);
+/// The camera both sections look through: the mesh's bounding sphere from the default direction.
+render::Camera cameraFor(const TriangleMesh& mesh) {
   const Aabbf b = mesh.surfaceBounds();
-  const double diagonal = b.diagonal();
-  const render::Camera camera = render::Camera::framing(Vec3d(b.center()), 0.5 * diagonal);
+  return render::Camera::framing(Vec3d(b.center()), 0.5 * double(b.diagonal()));
+}
+
+/// Returns the geometry textures it measured (for Fig. 7).
+std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::string& name, const TriangleMesh& mesh,
+                                                                  int size, int repeats, CsvWriter& csv) {
+  const embree::EmbreeScene embree(mesh);
+  const double diagonal = mesh.surfaceBounds().diagonal();
+  const render::Camera camera = cameraFor(mesh);
   render::Frame reference;
   const double embreeSeconds = medianSeconds(repeats, [&] { reference = embree.renderReference(camera, size, size); });
 
@@ -116,6 +133,76 @@ void compareRepresentations(const std::string& name, const TriangleMesh& mesh, i
   row("geotex", chartsConvert, charts->byteSize(), chartsAccuracy);
   std::printf("%-13s %-14s %9s %9.2f MiB | the reference                          | %6.2f Mrays/s\n", name.c_str(),
               "Embree", "", double(embree.byteSize()) / (1 << 20), rays / embreeSeconds * 1e-6);
+  return charts;
+}
+
+/// Fig. 7 on one mesh: for each image size, the median over `repeats` frames (after one that
+/// compiles and uploads) of the OpenGL backend ray casting the charts (colour, no shadows) and of
+/// OpenGL rasterizing the mesh: each frame drawn and its colour read back, by the wall clock, and by
+/// the device's timer where the driver has one (llvmpipe's reads 0). The crossover is by the device
+/// time where there is one, else by the wall clock.
+void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<const geotex::GeoTexModel> charts,
+             const std::vector<std::pair<int, int>>& sizes, int repeats, CsvWriter& csv) {
+#ifdef CELLRELIEF_HAS_OPENGL
+  const render::Camera camera = cameraFor(mesh);
+  std::unique_ptr<gl::GlBackend> rayCaster;
+  std::unique_ptr<gl::MeshRasterizer> rasterizer;
+  try {
+    rayCaster = std::make_unique<gl::GlBackend>();
+    rasterizer = std::make_unique<gl::MeshRasterizer>(mesh);
+  } catch (const Error& e) {
+    std::printf("%-13s Fig. 7 not measured: %s\n", name.c_str(), e.what());
+    return;
+  }
+  render::Scene scene;
+  scene.geotexModels.push_back(std::move(charts));
+  rayCaster->upload(scene);
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  std::optional<std::pair<int, int>> crossover;
+  bool slowerOnce = false, byDevice = true;
+  for (const auto& [width, height] : sizes) {
+    render::RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.channels = render::kColor;
+    options.shadows = false;
+    rayCaster->renderFrame(camera, options);  // compiles the variant
+    rasterizer->render(camera, width, height);
+    std::vector<double> castDevice, castWall, rasterDevice, rasterWall;
+    for (int r = 0; r < repeats; ++r) {
+      castWall.push_back(medianSeconds(1, [&] { rayCaster->renderFrame(camera, options); }));
+      castDevice.push_back(rayCaster->deviceSeconds());
+      rasterWall.push_back(medianSeconds(1, [&] { rasterizer->render(camera, width, height); }));
+      rasterDevice.push_back(rasterizer->deviceSeconds());
+    }
+    const double castD = median(castDevice), rasterD = median(rasterDevice);
+    const double castW = median(castWall), rasterW = median(rasterWall);
+    byDevice &= castD > 0 && rasterD > 0;
+    const double cast = byDevice ? castD : castW, raster = byDevice ? rasterD : rasterW;
+    std::printf("%-13s %9zu %5d x %-5d | %9.2f ms %9.2f ms | %9.2f ms %9.2f ms | %6.2fx\n", name.c_str(),
+                mesh.triangleCount(), width, height, 1e3 * castD, 1e3 * castW, 1e3 * rasterD, 1e3 * rasterW,
+                raster / cast);
+    csv.row(name, mesh.triangleCount(), width, height, castD, castW, rasterD, rasterW);
+    if (cast < raster && !slowerOnce) crossover = {width, height};
+    slowerOnce |= cast >= raster;
+  }
+  const char* clock = byDevice ? "device time" : "wall clock";
+  if (!crossover)
+    std::printf("%-13s ray casting the charts is slower than rasterizing the mesh at every size measured (%s)\n",
+                name.c_str(), clock);
+  else if (!slowerOnce)
+    std::printf("%-13s ray casting the charts is faster at every size measured, up to %d x %d (%s)\n", name.c_str(),
+                crossover->first, crossover->second, clock);
+  else
+    std::printf("%-13s crossover: ray casting the charts is faster up to %d x %d (%s)\n", name.c_str(),
+                crossover->first, crossover->second, clock);
+#else
+  (void)mesh, (void)charts, (void)sizes, (void)repeats, (void)csv;
+  std::printf("%-13s Fig. 7 not measured: this build has no OpenGL backend\n", name.c_str());
+#endif
 }
 
 }  // namespace
@@ -143,13 +230,33 @@ int main(int argc, char** argv) {
     const TriangleMesh mesh = io::readMesh(std::filesystem::path(o.data) / m.path);
     for (const int k : o.quick ? std::vector<int>{50} : std::vector<int>{50, 200}) bench::compareVsa(m.name, mesh, k, 20, vsaCsv);
   }
+  bench::CsvWriter figureCsv(std::filesystem::path(o.out) / "geotex_fig7.csv",
+                             "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,raster_device_s,raster_wall_s");
   std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
               "bytes); %d x %d primary rays, CPU backend against Embree\n",
               size, size);
+  struct Measured {
+    std::string name;
+    TriangleMesh mesh;
+    std::shared_ptr<const geotex::GeoTexModel> charts;
+  };
+  std::vector<Measured> measured;
   for (const bench::MeshEntry& m : bench::kMeshes) {
     if (o.quick && std::string(m.name) != "fertility_9k") continue;
-    bench::compareRepresentations(m.name, io::readMesh(std::filesystem::path(o.data) / m.path), size, repeats, reprCsv);
+    Measured& entry = measured.emplace_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
+    entry.charts = bench::compareRepresentations(m.name, entry.mesh, size, repeats, reprCsv);
   }
-  std::printf("\nwrote %s and %s\n", vsaCsv.path().c_str(), reprCsv.path().c_str());
+  // The paper's Fig. 7 sizes, 4:3 as its frames, and one smaller where the crossover may lie on a CPU device.
+  const std::vector<std::pair<int, int>> sizes =
+      o.quick ? std::vector<std::pair<int, int>>{{160, 120}, {320, 240}}
+              : std::vector<std::pair<int, int>>{{80, 60}, {160, 120}, {320, 240}, {640, 480}, {800, 600}, {1024, 768}, {1600, 1200}};
+  std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) against the full mesh "
+              "rasterized by OpenGL, median of %d frames, each read back; device time where the driver times it\n", repeats);
+  std::printf("%-13s %9s %13s | %12s %12s | %12s %12s | %7s\n", "mesh", "triangles", "image", "cast device",
+              "cast wall", "raster dev", "raster wall", "raster/cast");
+  for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
+  const std::filesystem::path png = std::filesystem::path(o.out) / "geotex_fig7.png";
+  app::drawPlot("plot_geotex_fig7", figureCsv.path(), png);
+  std::printf("\nwrote %s, %s and %s\n", vsaCsv.path().c_str(), reprCsv.path().c_str(), figureCsv.path().c_str());
   return 0;
 }

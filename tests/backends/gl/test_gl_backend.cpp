@@ -7,7 +7,9 @@
 #include <cstdlib>
 
 #include <cellrelief/backends/backend_table.h>
+#include <cellrelief/core/bvh.h>
 #include <cellrelief/core/procedural.h>
+#include <cellrelief/gl/mesh_rasterizer.h>
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/frame_comparison.h>
 
@@ -45,6 +47,37 @@ TEST_F(GlBackendTest, AShaderThatDoesNotCompileIsAnErrorWithTheDriversLog) {
     EXPECT_NE(what.find("undefinedFunction"), std::string::npos) << what;  // the driver's log
   }
   unsetenv("CELLRELIEF_SHADER_OVERRIDE");
+}
+
+// The conventional peer of geometry textures (Fig. 7): the rasterized mesh covers exactly the pixels
+// whose primary ray (Camera::primaryRay) hits a triangle, by the BVH's exact ray cast, up to pixel
+// centres within rounding of a silhouette edge; lit pixels are shaded within ambient..ambient + light.
+TEST_F(GlBackendTest, TheMeshRasterizerCoversThePixelsWhosePrimaryRayHitsTheMesh) {
+  const TriangleMesh torusMesh = makeTorus(1.0f, 0.35f, 96, 48);
+  MeshRasterizer raster(torusMesh);
+  const TriangleBvh<double> bvh(std::vector<Vec3d>(torusMesh.positions.begin(), torusMesh.positions.end()),
+                                torusMesh.triangles);
+  for (const render::Camera& camera : {render::Camera::framing(Vec3d(0), 1.4, 30, 35), render::Camera::framing(Vec3d(0), 1.4, -70, 10)}) {
+    const int width = 160, height = 120;
+    const Image<std::uint8_t> color = raster.render(camera, width, height);
+    std::size_t hits = 0, disagreements = 0, grey = 0;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const bool covered = color.at(x, y, 3) == 255;
+        const bool hit = std::isfinite(bvh.closestHit(camera.primaryRay(x, y, width, height)).t);
+        hits += hit;
+        disagreements += covered != hit;
+        if (covered) {
+          EXPECT_GE(color.at(x, y, 0), std::uint8_t(0.18 * 255 - 1)) << x << ", " << y;
+          grey += color.at(x, y, 0) != color.at(x, y, 1) || color.at(x, y, 1) != color.at(x, y, 2);
+        }
+      }
+    EXPECT_GT(hits, std::size_t(width * height / 10));
+    EXPECT_LE(disagreements, hits / 200) << "of " << hits << " hits";
+    EXPECT_EQ(grey, 0u) << "the shading is grey";
+  }
+  EXPECT_THROW(MeshRasterizer(TriangleMesh{}), Error);
+  EXPECT_THROW(raster.render(render::Camera{}, 0, 10), Error);
 }
 
 }  // namespace

@@ -188,19 +188,19 @@ inline bool rasterizedEntryServes(const render::Scene& scene, const render::Came
 /// Clip space of the API: OpenGL's has y up and z in [-1, 1], Vulkan's y down and z in [0, 1].
 enum class ClipSpace { OpenGL, Vulkan };
 
-/// The cover of one model for the rasterized entry: the camera as a projection whose pixel
-/// centres are Camera::primaryRay's, and each cell's box enlarged by two pixels at the farthest
-/// point of the scene, so that no ray that grazes a grey cell is lost to the rasterizer's
-/// rounding. `dilationCells` overrides the enlargement (tests).
-inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuScene, const render::Camera& camera,
-                               const render::RenderOptions& o, std::size_t model,
-                               std::optional<double> dilationCells = std::nullopt,
-                               ClipSpace clip = ClipSpace::OpenGL) {
+/// The camera as a projection whose pixel centres are Camera::primaryRay's, with near and far
+/// planes around `bounds`; and the farthest depth of the bounds along the view.
+struct CameraProjection {
+  float viewProjection[16];  ///< column-major
+  double farthest = 0;
+};
+
+inline CameraProjection cameraProjection(const render::Camera& camera, int width, int height, const Aabbd& bounds,
+                                         ClipSpace clip = ClipSpace::OpenGL) {
   const render::Camera::Basis basis = camera.basis();
   const Vec3d &forward = basis.forward, &right = basis.right, &up = basis.up;
   const double tanHalf = basis.tanHalf;
-  const double aspect = double(o.width) / double(o.height);
-  const Aabbd bounds = scene.boundsWS();
+  const double aspect = double(width) / double(height);
   double farthest = 0;
   for (int c = 0; c < 8; ++c) {
     const Vec3d corner((c & 1) ? bounds.max.x : bounds.min.x, (c & 2) ? bounds.max.y : bounds.min.y,
@@ -217,15 +217,30 @@ inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuSc
   const Vec3d rows[4] = {right / (tanHalf * aspect), (vulkan ? -up : up) / tanHalf, a * forward, forward};
   const double offsets[4] = {-glm::dot(rows[0], camera.eye), -glm::dot(rows[1], camera.eye),
                              -glm::dot(rows[2], camera.eye) - b, -glm::dot(rows[3], camera.eye)};
-  CoverParams p{};
+  CameraProjection p{};
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 3; ++c) p.viewProjection[c * 4 + r] = float(rows[r][c]);
     p.viewProjection[12 + r] = float(offsets[r]);
   }
+  p.farthest = farthest;
+  return p;
+}
+
+/// The cover of one model for the rasterized entry: the camera's projection (cameraProjection),
+/// and each cell's box enlarged by two pixels at the farthest point of the scene, so that no ray
+/// that grazes a grey cell is lost to the rasterizer's rounding. `dilationCells` overrides the
+/// enlargement (tests).
+inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuScene, const render::Camera& camera,
+                               const render::RenderOptions& o, std::size_t model,
+                               std::optional<double> dilationCells = std::nullopt,
+                               ClipSpace clip = ClipSpace::OpenGL) {
+  const CameraProjection projection = cameraProjection(camera, o.width, o.height, scene.boundsWS(), clip);
+  CoverParams p{};
+  std::copy_n(projection.viewProjection, 16, p.viewProjection);
   const relief::ReliefModel& m = *scene.models[model];
   for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
   p.originAndCellSize[3] = float(m.cellSizeWS);
-  const double pixelWS = 2 * tanHalf * std::max(farthest, 0.0) / double(o.height);
+  const double pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
   p.dilation[0] = float(dilationCells ? *dilationCells : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
   p.cellOffset[0] = gpuScene.models[model].cellOffset;
   return p;
