@@ -109,38 +109,46 @@ void main() {
 }
 )";
 
+  /// Throws, with the driver's log, unless `object` built (its status by `getStatus`, its log by
+  /// `getLog`); a failed object is deleted first.
+  static void requireBuilt(GLuint object, GLenum status, void (*getStatus)(GLuint, GLenum, GLint*),
+                           void (*getLog)(GLuint, GLsizei, GLsizei*, GLchar*), void (*destroy)(GLuint),
+                           const char* failure) {
+    GLint ok = 0;
+    getStatus(object, status, &ok);
+    if (ok) return;
+    char log[2048] = {};
+    getLog(object, sizeof log, nullptr, log);
+    destroy(object);
+    throw Error(ErrorKind::Unsupported, std::string("mesh rasterizer: ") + failure + ": " + log);
+  }
+
   static GLuint compile(GLenum stage, const char* source) {
     const GLuint shader = glCreateShader(stage);
     glShaderSource(shader, 1, &source, nullptr);
     glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[2048] = {};
-      glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-      glDeleteShader(shader);
-      throw Error(ErrorKind::Unsupported, std::string("mesh rasterizer: a shader did not compile: ") + log);
-    }
+    requireBuilt(shader, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+                 "a shader did not compile");
     return shader;
   }
 
   static GLuint linkProgram() {
     const GLuint vertex = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fragment = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+    GLuint fragment = 0;
+    try {
+      fragment = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+    } catch (...) {
+      glDeleteShader(vertex);
+      throw;
+    }
     const GLuint program = glCreateProgram();
     glAttachShader(program, vertex);
     glAttachShader(program, fragment);
     glLinkProgram(program);
     glDeleteShader(vertex);
     glDeleteShader(fragment);
-    GLint ok = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char log[2048] = {};
-      glGetProgramInfoLog(program, sizeof log, nullptr, log);
-      glDeleteProgram(program);
-      throw Error(ErrorKind::Unsupported, std::string("mesh rasterizer: the program did not link: ") + log);
-    }
+    requireBuilt(program, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                 "the program did not link");
     return program;
   }
 
