@@ -139,8 +139,9 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
 /// Fig. 7 on one mesh: for each image size, the median over `repeats` frames (after one that
 /// compiles and uploads) of the OpenGL backend ray casting the charts (colour, no shadows) and of
 /// OpenGL rasterizing the mesh: each frame drawn and its colour read back, by the wall clock, and by
-/// the device's timer where the driver has one (llvmpipe's reads 0). The crossover is by the device
-/// time where there is one, else by the wall clock.
+/// the device's timer where the driver has one (llvmpipe's reads 0 for the ray caster and only part
+/// of a frame for the rasterizer). The crossover is by the device time where both are timed, else by
+/// the wall clock.
 void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<const geotex::GeoTexModel> charts,
              const std::vector<std::pair<int, int>>& sizes, int repeats, CsvWriter& csv) {
 #ifdef CELLRELIEF_HAS_OPENGL

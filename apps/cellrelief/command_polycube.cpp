@@ -173,7 +173,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
   std::printf("distortion    %-9s %8s %8s %10s %8s\n", "", "area", "angle", "stretch", "flipped");
   for (const auto& [name, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
     std::printf("              %-9s %8.4f %8.4f %10.3f %8zu\n", name, d.area, d.angle, d.stretchEfficiency, d.flipped);
-  polycube::requireUnfolded(map, mesh, o.mesh);
+  polycube::requireUnfolded(map, mesh, o.mesh, "try another --grid, more --sweeps or a polycube of your own (--cubes)");
 
   const auto t2 = std::make_shared<const polycube::PolycubeTexture>(
       withPath(o.mesh, [&] {

@@ -50,7 +50,7 @@ void bindGeoTex(py::module_& m) {
         o.vsa.proxies = charts;
         o.maxTexels = maxTexels;
         o.heightBits = bits;
-        o.vsa.progress = [progress](double fraction) {
+        o.vsa.progress = [progress = py::handle(progress)](double fraction) {  // a handle: see progressOf
           py::gil_scoped_acquire gil;
           if (!progress.is_none()) progress(fraction);
           if (PyErr_CheckSignals() != 0) throw Interrupted{};

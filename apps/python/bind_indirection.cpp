@@ -74,7 +74,7 @@ void bindIndirection(py::module_& m) {
         int width = relief.width(), rows = relief.height();
         if (!size.is_none()) width = rows = size.cast<int>();
         int iterations = 0;
-        const indirection::ProgressCallback onProgress = [progress](const indirection::Grid&,
+        const indirection::ProgressCallback onProgress = [progress = py::handle(progress)](const indirection::Grid&,
                                                                     const indirection::Progress& p) {
           py::gil_scoped_acquire gil;
           if (!progress.is_none() && p.levelDone) progress(p.g, p.seconds);

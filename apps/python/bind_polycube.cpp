@@ -38,12 +38,13 @@ polycube::PolycubeFile cubesOf(const py::handle& cubes, const py::object& origin
   const auto rows = rowsOf<std::int64_t>(cubes, 3, "cubes");
   std::vector<Vec3i> list(std::size_t(rows.shape(0)));
   const std::int64_t* p = rows.data();
-  constexpr std::int64_t kLimit = 1 << 20;  // polycube_file.h's coordinate range
+  constexpr std::int64_t kLimit = polycube::Polycube::kMaxCoordinate - 2;  // as polycube_file.h reads them
   for (std::size_t i = 0; i < list.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
       const std::int64_t v = p[3 * i + std::size_t(c)];
       if (v < -kLimit || v > kLimit)
-        throw Error(ErrorKind::InvalidArgument, "cubes: row " + std::to_string(i) + " has a coordinate beyond 2^20");
+        throw Error(ErrorKind::InvalidArgument, "cubes: row " + std::to_string(i) + " has a coordinate beyond +-" +
+                                                    std::to_string(kLimit));
       list[i][c] = int(v);
     }
   }
@@ -79,7 +80,10 @@ PolycubeMap polycubeMapOf(const TriangleMesh& mesh, const py::object& grid, cons
   if (py::isinstance<py::str>(grid)) {
     if (grid.cast<std::string>() != "auto")
       throw Error(ErrorKind::InvalidArgument, "grid takes a cube count per side or 'auto'");
+  } else if (!py::isinstance<py::int_>(grid)) {
+    throw Error(ErrorKind::InvalidArgument, "grid takes a cube count per side (an integer) or 'auto'");
   } else {
+    if (!cubes.is_none()) throw Error(ErrorKind::InvalidArgument, "grid and cubes: give one, the cubes need no grid");
     o.polycube.cubesPerSide = grid.cast<int>();
     if (o.polycube.cubesPerSide < 2 || o.polycube.cubesPerSide > 256)
       throw Error(ErrorKind::InvalidArgument, "grid must lie in 2..256 (or be 'auto')");
@@ -94,8 +98,9 @@ PolycubeMap polycubeMapOf(const TriangleMesh& mesh, const py::object& grid, cons
   o.map.maxSweeps = sweeps;
   o.signal = signalOf(signal);
   o.texelsPerSquarelet = texels;
-  // Progress after each sweep: the user's callback (with the GIL) and a check for Ctrl-C.
-  o.map.progress = [progress](int sweep, const polycube::Distortion& d) {
+  // Progress after each sweep: the user's callback (with the GIL) and a check for Ctrl-C. A handle,
+  // not an object: the options are copied without the GIL (progressOf in bind_relief.cpp says why).
+  o.map.progress = [progress = py::handle(progress)](int sweep, const polycube::Distortion& d) {
     py::gil_scoped_acquire gil;
     if (!progress.is_none()) progress(sweep, distortionOf(d));
     if (PyErr_CheckSignals() != 0) throw Interrupted{};
@@ -198,7 +203,9 @@ space. Scene.add takes it.)")
               return 0;
             });
           },
-          py::arg("dir"), "Writes what `cellrelief render dir` and load_polycube read (each file atomically).")
+          py::arg("dir"),
+          "Writes what `cellrelief render dir` and load_polycube read. Each file is written atomically, the "
+          "four together are not: write into a new folder to replace a result.")
       .def("__repr__", [](const PolycubeMap& p) {
         return "<cellrelief.PolycubeMap " + std::to_string(p.textured->mesh.triangleCount()) + " triangles on " +
                std::to_string(p.cubes().size()) + " cubes, T2 " + std::to_string(p.textured->t2->texelsPerSquarelet()) +

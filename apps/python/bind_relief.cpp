@@ -23,9 +23,11 @@ projection::CentreOfProjection centreOf(const std::string& name) {
   throw Error(ErrorKind::InvalidArgument, "centre takes cell, centroid or fewest-crossings, not '" + name + "'");
 }
 
-/// The conversion's progress: the user's callback (with the GIL) and a check for Ctrl-C.
-std::function<void(double)> progressOf(const py::object& callback) {
-  return [callback](double fraction) {
+/// The conversion's progress: the user's callback (with the GIL) and a check for Ctrl-C. It holds a
+/// handle, not an object: the work copies the function without the GIL, and copying an object would
+/// change its reference count there; the caller's argument keeps the callback alive.
+std::function<void(double)> progressOf(const py::object& callbackObject) {
+  return [callback = py::handle(callbackObject)](double fraction) {
     py::gil_scoped_acquire gil;
     if (!callback.is_none()) callback(fraction);
     if (PyErr_CheckSignals() != 0) throw Interrupted{};

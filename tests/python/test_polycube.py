@@ -40,7 +40,7 @@ def test_the_map_is_the_command_lines(mapped, three_holes, three_holes_path, tmp
     assert status == 0, output
     cli = cr.load_polycube(tmp_path / "cli")
     assert cli.distortion is None
-    np.testing.assert_array_equal(np.sort(cli.cubes, axis=0), np.sort(mapped.cubes, axis=0))
+    np.testing.assert_array_equal(cli.cubes, mapped.cubes)  # a polycube keeps its cubes sorted
     assert cli.cube_size == pytest.approx(mapped.cube_size, rel=1e-12)
     np.testing.assert_allclose(cli.origin, mapped.origin, rtol=0, atol=1e-9)
     np.testing.assert_allclose(cli.texture, mapped.texture, rtol=0, atol=1e-5)
@@ -66,7 +66,10 @@ def test_every_backend_renders_the_map_as_the_cpu_does(mapped):
     scene.add(mapped)
     assert "1 polycube maps" in repr(scene)
     camera = cr.Camera.framing(scene, yaw=30, pitch=25)
-    frames = {name: cr.render(scene, camera, backend=name, width=96, height=96) for name in available_backends()}
+    names = available_backends()
+    if names == ["cpu"]:
+        pytest.skip("only the CPU backend runs here")
+    frames = {name: cr.render(scene, camera, backend=name, width=96, height=96) for name in names}
     cpu = frames["cpu"]
     assert 0.1 < cpu.mask.mean() < 0.9
     for name, frame in frames.items():
@@ -94,6 +97,12 @@ def test_bad_arguments_are_refused(three_holes):
         cr.polycube_map(three_holes, texels=12)
     with pytest.raises(cr.InvalidArgumentError, match="grid must lie"):
         cr.polycube_map(three_holes, grid=1)
+    with pytest.raises(cr.InvalidArgumentError, match="an integer"):
+        cr.polycube_map(three_holes, grid=1.5)
+    with pytest.raises(cr.InvalidArgumentError, match="give one"):
+        cr.polycube_map(three_holes, grid=8, cubes=[[0, 0, 0]])
+    with pytest.raises(cr.InvalidArgumentError, match="beyond"):
+        cr.polycube_map(three_holes, cubes=[[0, 0, 1 << 21]])
     with pytest.raises(cr.InvalidArgumentError, match=r"shape \(n, 3\)"):
         cr.polycube_map(three_holes, cubes=np.zeros((2, 2), dtype=np.int32))
     with pytest.raises(cr.InvalidArgumentError, match="give both or neither"):

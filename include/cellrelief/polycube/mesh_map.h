@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "cellrelief/polycube/from_mesh.h"
 #include "cellrelief/polycube/mesh_signal.h"
@@ -76,7 +77,8 @@ inline PolycubeDomain givenDomain(const TriangleMesh& mesh, PolycubeFile cubes, 
   checkPolycubeForMesh(cubes.polycube, d.meshGenus, source);
   d.frame = cubes.hasFrame ? cubes.frame : fitFrame(cubes.polycube, mesh);
   if (!(d.frame.cubeSize > 0) || !std::isfinite(d.frame.cubeSize))
-    throw detail::errorAbout(ErrorKind::InvalidInput, source, "the polycube's frame has no size (is the mesh flat?)");
+    throw detail::errorAbout(ErrorKind::InvalidInput, source,
+                             "the mesh's bounds have no extent: a polycube cannot be fitted over it");
   d.polycube = std::move(cubes.polycube);
   return d;
 }
@@ -91,15 +93,16 @@ inline PolycubeDomain automaticDomain(const TriangleMesh& mesh, const PolycubeOp
   return d;
 }
 
-/// Step 2's check: throws InvalidInput naming `source` while the map folds a triangle.
+/// Step 2's check: throws InvalidInput naming `source` while the map folds a triangle; `remedy`
+/// ends the message (a command line names its options there).
 inline void requireUnfolded(const PolycubeParameterization& map, const TriangleMesh& mesh,
-                            const std::filesystem::path& source) {
+                            const std::filesystem::path& source,
+                            std::string_view remedy = "try another grid, more sweeps or a polycube of your own") {
   if (map.final.flipped == 0) return;
   throw detail::errorAbout(ErrorKind::InvalidInput, source,
               "the map onto the polycube still folds " + std::to_string(map.final.flipped) + " of " +
                   std::to_string(mesh.triangleCount()) + " triangles after " + std::to_string(map.sweeps) +
-                  " sweeps: a feature is likely thinner than a cube or the polycube misses it; try another grid, "
-                  "more sweeps or a polycube of your own");
+                  " sweeps: a feature is likely thinner than a cube or the polycube misses it; " + std::string(remedy));
 }
 
 /// Step 3: T2 of `signal` (none: the paper's grid pattern) with S texels per squarelet side.

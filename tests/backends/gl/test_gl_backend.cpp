@@ -51,30 +51,43 @@ TEST_F(GlBackendTest, AShaderThatDoesNotCompileIsAnErrorWithTheDriversLog) {
 
 // The conventional peer of geometry textures (Fig. 7): the rasterized mesh covers exactly the pixels
 // whose primary ray (Camera::primaryRay) hits a triangle, by the BVH's exact ray cast, up to pixel
-// centres within rounding of a silhouette edge; lit pixels are shaded within ambient..ambient + light.
+// centres within rounding of a silhouette edge, and shades them as Lambert of the interpolated vertex
+// normal under the scene's light: ambient + intensity max(0, n.l), at most 1, in grey.
 TEST_F(GlBackendTest, TheMeshRasterizerCoversThePixelsWhosePrimaryRayHitsTheMesh) {
   const TriangleMesh torusMesh = makeTorus(1.0f, 0.35f, 96, 48);
   MeshRasterizer raster(torusMesh);
   const TriangleBvh<double> bvh(std::vector<Vec3d>(torusMesh.positions.begin(), torusMesh.positions.end()),
                                 torusMesh.triangles);
+  const std::vector<Vec3f> normals = torusMesh.normals.empty() ? computeVertexNormals(torusMesh) : torusMesh.normals;
+  const render::DirectionalLight light;
+  const render::Scene defaults;
+  const Vec3d towards = glm::normalize(Vec3d(light.direction));
   for (const render::Camera& camera : {render::Camera::framing(Vec3d(0), 1.4, 30, 35), render::Camera::framing(Vec3d(0), 1.4, -70, 10)}) {
     const int width = 160, height = 120;
     const Image<std::uint8_t> color = raster.render(camera, width, height);
-    std::size_t hits = 0, disagreements = 0, grey = 0;
+    std::size_t hits = 0, disagreements = 0, grey = 0, shadedOff = 0, shaded = 0;
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         const bool covered = color.at(x, y, 3) == 255;
-        const bool hit = std::isfinite(bvh.closestHit(camera.primaryRay(x, y, width, height)).t);
+        const Hit<double> h = bvh.closestHit(camera.primaryRay(x, y, width, height));
+        const bool hit = std::isfinite(h.t);
         hits += hit;
         disagreements += covered != hit;
-        if (covered) {
-          EXPECT_GE(color.at(x, y, 0), std::uint8_t(0.18 * 255 - 1)) << x << ", " << y;
-          grey += color.at(x, y, 0) != color.at(x, y, 1) || color.at(x, y, 1) != color.at(x, y, 2);
+        if (covered) grey += color.at(x, y, 0) != color.at(x, y, 1) || color.at(x, y, 1) != color.at(x, y, 2);
+        if (covered && hit) {
+          const Vec3u t = torusMesh.triangles[h.primId];
+          const Vec3d n = glm::normalize((1 - h.u - h.v) * Vec3d(normals[t.x]) + h.u * Vec3d(normals[t.y]) +
+                                         h.v * Vec3d(normals[t.z]));
+          const double expected = 255 * std::min(1.0, double(defaults.ambient.x) +
+                                                          double(light.intensity) * std::max(0.0, glm::dot(n, towards)));
+          ++shaded;
+          shadedOff += std::abs(double(color.at(x, y, 0)) - expected) > 3;
         }
       }
     EXPECT_GT(hits, std::size_t(width * height / 10));
     EXPECT_LE(disagreements, hits / 200) << "of " << hits << " hits";
     EXPECT_EQ(grey, 0u) << "the shading is grey";
+    EXPECT_LE(shadedOff, shaded / 100) << "pixels more than 3 levels from Lambert, of " << shaded;
   }
   EXPECT_THROW(MeshRasterizer(TriangleMesh{}), Error);
   EXPECT_THROW(raster.render(render::Camera{}, 0, 10), Error);

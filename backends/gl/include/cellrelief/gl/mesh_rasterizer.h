@@ -46,13 +46,17 @@ class MeshRasterizer {
     }
     glVertexArrayElementBuffer(mVertexArray, mBuffers[2]);
     mProgram = linkProgram();
-    glGenQueries(1, &mTimer);
+    glCreateQueries(GL_TIME_ELAPSED, 1, &mTimer);
     checkErrors("uploading the mesh");
   }
   MeshRasterizer(const MeshRasterizer&) = delete;
   MeshRasterizer& operator=(const MeshRasterizer&) = delete;
   ~MeshRasterizer() {
-    mContext->makeCurrent();
+    try {
+      mContext->makeCurrent();
+    } catch (const Error&) {
+      return;  // the context is gone, and its objects with it
+    }
     glDeleteQueries(1, &mTimer);
     glDeleteProgram(mProgram);
     releaseTarget();
@@ -78,9 +82,10 @@ class MeshRasterizer {
     return color;
   }
 
-  /// The last frame's time on the device (a timer query; 0 where the driver does not time, as
-  /// llvmpipe).
+  /// The last frame's time on the device by a timer query; 0 before the first frame. llvmpipe's
+  /// readings are not frame times (0, or a part of the frame).
   double deviceSeconds() const {
+    if (!mDrawn) return 0;
     mContext->makeCurrent();
     GLuint64 nanoseconds = 0;
     glGetQueryObjectui64v(mTimer, GL_QUERY_RESULT, &nanoseconds);
@@ -177,8 +182,10 @@ void main() {
     glCreateFramebuffers(1, &mFramebuffer);
     glNamedFramebufferRenderbuffer(mFramebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, mRenderbuffers[0]);
     glNamedFramebufferRenderbuffer(mFramebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, mRenderbuffers[1]);
-    if (glCheckNamedFramebufferStatus(mFramebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    if (glCheckNamedFramebufferStatus(mFramebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      releaseTarget();
       throw Error(ErrorKind::Unsupported, "mesh rasterizer: the frame buffer is incomplete on " + mContext->renderer());
+    }
     mWidth = width;
     mHeight = height;
   }
@@ -207,6 +214,7 @@ void main() {
     glDrawElements(GL_TRIANGLES, mIndexCount, GL_UNSIGNED_INT, nullptr);
     glEndQuery(GL_TIME_ELAPSED);
     checkErrors("drawing the mesh");
+    mDrawn = true;
   }
 
   std::unique_ptr<EglContext> mContext;
@@ -215,6 +223,7 @@ void main() {
   GLuint mVertexArray = 0, mBuffers[3] = {0, 0, 0}, mProgram = 0, mTimer = 0;
   GLuint mFramebuffer = 0, mRenderbuffers[2] = {0, 0};
   int mWidth = 0, mHeight = 0;
+  bool mDrawn = false;
 };
 
 }  // namespace cellrelief::gl
