@@ -250,12 +250,12 @@ int main(int argc, char** argv) {
     }
   }
   const std::filesystem::path png = std::filesystem::path(options.out) / "backends.png";
-  app::drawPlot("plot_backends", csv.path(), png);
+  const bool plotted = app::drawPlot("plot_backends", csv.path(), png);
   std::printf("\nvs cpu = the CPU reference's time / this backend's on the same frame; first s = upload and "
               "the first frame (tracers built, the shader variant compiled or read from Mesa's disk cache; "
               "Embree: its BVH build); mask and depth: "
               "agreement of the primary frame with the CPU reference (depth in sample spacings; Embree "
-              "is the original mesh, so its figures are the relief model's own error)\nwrote %s (plot: %s)\n",
-              csv.path().c_str(), png.c_str());
+              "is the original mesh, so its figures are the relief model's own error)\nwrote %s%s%s%s\n",
+              csv.path().c_str(), plotted ? " (plot: " : "", plotted ? png.c_str() : "", plotted ? ")" : "");
   return 0;
 }

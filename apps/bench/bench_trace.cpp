@@ -393,11 +393,12 @@ int main(int argc, char** argv) {
   // The figures, drawn from the CSV by matplotlib (apps/plots).
   const std::filesystem::path png = std::filesystem::path(options.out) / "trace_pareto.png";
   const std::filesystem::path memoryPng = std::filesystem::path(options.out) / "trace_memory.png";
-  app::drawPlot("plot_trace_pareto", csv.path(), png);
-  app::drawPlot("plot_trace_memory", csv.path(), memoryPng);
+  const bool plotted = app::drawPlot("plot_trace_pareto", csv.path(), png) &&
+                       app::drawPlot("plot_trace_memory", csv.path(), memoryPng);
   std::printf("\nvs Emb = our rays per second / Embree's on the same rays and threads; memory = Embree's "
               "mesh + BVH bytes / ours (model + pyramid); med tx = median depth error in sample spacings "
               "(texels); dis/M = hit/miss disagreements with Embree per million rays. Embree is drawn at "
-              "1e-7 (exact).\nwrote %s (plots: %s and %s)\n", csv.path().c_str(), png.c_str(), memoryPng.c_str());
+              "1e-7 (exact).\nwrote %s\n", csv.path().c_str());
+  if (plotted) std::printf("plots: %s and %s\n", png.c_str(), memoryPng.c_str());
   return 0;
 }

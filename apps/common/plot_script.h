@@ -5,6 +5,7 @@
 /// matplotlib is missing it says so and carries on: the CSV is the result, the picture a view of it.
 #pragma once
 
+#include <cerrno>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -39,7 +40,11 @@ inline int runProgram(const std::vector<std::string>& args, bool quiet = false) 
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return -1;
   int status = 0;
-  if (waitpid(pid, &status, 0) != pid) return -1;
+  pid_t waited = 0;
+  do {
+    waited = waitpid(pid, &status, 0);
+  } while (waited == -1 && errno == EINTR);  // a signal is no reason to leave the child unreaped
+  if (waited != pid) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -3,6 +3,7 @@
 markers (so 40 series stay apart), log axes with readable ticks, and writing the PNG."""
 import csv
 import itertools
+import os
 import pathlib
 import sys
 
@@ -54,9 +55,12 @@ def pareto(points, better_x=min, better_y=max):
 
 
 def save(figure, path):
+    """Writes the figure beside `path` and renames it there: no partial PNG, even when killed."""
     path = pathlib.Path(path)
-    figure.savefig(path, dpi=110)
+    partial = path.with_name(path.name + ".partial.png")
+    figure.savefig(partial, dpi=110)
     plt.close(figure)
+    os.replace(partial, path)
     print(f"plotted {path}")
 
 

@@ -6,6 +6,8 @@
 /// arrays on the CPU reference, t, normals and cell ids back).
 #include <pybind11/stl/filesystem.h>
 
+#include <mutex>
+
 #include <tbb/parallel_for.h>
 
 #include <cellrelief/backends/backend_table.h>
@@ -66,6 +68,8 @@ render::RenderOptions optionsOf(int width, int height, bool shadows, int reflect
 }
 
 /// A backend with the scene it last uploaded (its models must outlive the backend's use of them).
+/// Its work runs without the GIL, so Python threads may share one: a mutex lets one call at a time
+/// use the backend.
 class Renderer {
  public:
   explicit Renderer(const std::string& name, const std::string& device)
@@ -73,24 +77,40 @@ class Renderer {
   std::string name() const { return std::string(render::backendName(mBackend->kind())); }
   std::string description() const { return mBackend->description(); }
   void upload(const Scene& scene) {
-    mScene = scene;
     withoutGil([&] {
+      const std::lock_guard lock(mMutex);
+      mScene = scene;  // C++ shared pointers only: no Python reference counts
+      mUploaded = false;
       mBackend->upload(mScene);
+      mUploaded = true;
       return 0;
     });
-    mUploaded = true;
   }
   Frame render(const Camera& camera, const render::RenderOptions& options) {
-    if (!mUploaded) throw Error(ErrorKind::InvalidArgument, "renderer: upload a scene before rendering");
-    return withoutGil([&] { return mBackend->renderFrame(camera, options); });
+    return withoutGil([&] {
+      const std::lock_guard lock(mMutex);
+      if (!mUploaded) throw Error(ErrorKind::InvalidArgument, "renderer: upload a scene before rendering");
+      return mBackend->renderFrame(camera, options);
+    });
   }
-  std::size_t sceneBytes() const { return mBackend->sceneBytes(); }
-  double deviceSeconds() const { return mBackend->deviceSeconds(); }
+  std::size_t sceneBytes() const {
+    return withoutGil([&] {
+      const std::lock_guard lock(mMutex);
+      return mBackend->sceneBytes();
+    });
+  }
+  double deviceSeconds() const {
+    return withoutGil([&] {
+      const std::lock_guard lock(mMutex);
+      return mBackend->deviceSeconds();
+    });
+  }
 
  private:
   std::unique_ptr<render::Backend> mBackend;
   Scene mScene;
   bool mUploaded = false;
+  mutable std::mutex mMutex;
 };
 
 /// Batches of rays against a scene on the CPU reference (its tracers built once).

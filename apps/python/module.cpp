@@ -18,9 +18,10 @@ struct ErrorClasses {
   py::object byKind[7];
 };
 
+/// Never freed: a static's destructor would release Python objects after the interpreter is gone.
 ErrorClasses& errorClasses() {
-  static ErrorClasses classes;
-  return classes;
+  static ErrorClasses* classes = new ErrorClasses;
+  return *classes;
 }
 
 py::object newErrorClass(py::module_& m, const char* name, py::tuple bases, const char* doc) {

@@ -1676,6 +1676,7 @@ void pxAxis(float t, int size, bool repeat, out int i0, out int i1, out float f)
   if (repeat) {
     if (isinf(x) || isnan(x)) x = 0.0;
     x -= float(size) * floor(x / float(size));
+    if (!(x >= 0.0 && x < float(size))) x = 0.0;  // far from the map, with fma: as bilinearAxis
     const float fl = floor(x);
     i0 = min(int(fl), size - 1);
     i1 = i0 + 1 == size ? 0 : i0 + 1;

@@ -57,6 +57,27 @@ TEST(ReliefMap, ClampAndRepeatBorders) {
   EXPECT_TRUE(std::isfinite(repeat.heightAt(NAN, 1e30f)));
 }
 
+// Far from the map (a grazing ray's end, a large UV scale) the repeat's reduction x - size floor(x /
+// size) can come out negative or at size where the compiler fuses the multiply and the subtraction
+// (aarch64, GPU compilers): whatever the platform, an index must never leave the map.
+TEST(ReliefMap, RepeatFarFromTheMapStaysInsideIt) {
+  for (const int size : {3, 5, 7, 1000, 1023}) {
+    int outside = 0;
+    for (double t = 1e3; t < 1e12; t *= 1.0007) {
+      for (const float sign : {1.0f, -1.0f}) {
+        int i0 = -1, i1 = -1;
+        float fraction = -1, slope = 0;
+        indirection::bilinearAxis(sign * float(t), size, true, i0, i1, fraction, slope);
+        outside += i0 < 0 || i0 >= size || i1 < 0 || i1 >= size || !(fraction >= 0 && fraction <= 1);
+      }
+    }
+    EXPECT_EQ(outside, 0) << "size " << size;
+  }
+  const std::vector<float> h(3 * 5, 0.5f);
+  const ReliefMap repeat(3, 5, h, 1.0f, Wrap::Repeat);
+  EXPECT_FLOAT_EQ(repeat.heightAt(16777217.5f / 3.0f, -16777217.0f), 0.5f);  // in the map's memory
+}
+
 TEST(ReliefMap, ReadsEveryHeightMapFormat) {
   struct Case {
     const char* file;

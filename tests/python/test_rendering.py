@@ -100,3 +100,27 @@ def test_a_relief_surface_renders_on_every_backend():
         assert (frame.mask != cpu.mask).sum() <= 2, name
     with pytest.raises(cr.InvalidArgumentError, match="square tile"):
         cr.relief_surface(rocks, v_axis=(0, 2, 0))
+
+
+def test_threads_sharing_a_renderer_get_the_frames_one_thread_gets(sphere_scene):
+    # render releases the GIL: without the renderer's lock two threads wrote into one frame buffer.
+    import threading
+
+    renderer = cr.Renderer("cpu")
+    renderer.upload(sphere_scene)
+    cameras = [cr.Camera.framing(sphere_scene, yaw=yaw, pitch=20) for yaw in (0, 40, 80, 120)]
+    alone = [renderer.render(c, width=64, height=48).depth.copy() for c in cameras]
+    results = {}
+
+    def work(i):
+        results[i] = renderer.render(cameras[i % 4], width=64, height=48).depth.copy()
+        renderer.upload(sphere_scene)  # uploads interleaved with other threads' renders
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(results) == 8
+    for i, depth in results.items():
+        np.testing.assert_array_equal(depth, alone[i % 4])

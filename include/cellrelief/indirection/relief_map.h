@@ -49,6 +49,10 @@ inline void bilinearAxis(float t, int size, bool repeat, int& i0, int& i1, float
   if (repeat) {
     if (!std::isfinite(x)) x = 0;
     x -= float(size) * std::floor(x / float(size));  // into [0, size)
+    // Far from the map (|x| beyond 2^24: a grazing ray's end, a large UV scale) the reduction can
+    // leave [0, size) where multiply and subtract are fused (aarch64, GPUs): any texel is as good
+    // there, an index outside the map is not.
+    if (!(x >= 0.0f && x < float(size))) x = 0.0f;
     const float fl = std::floor(x);
     i0 = std::min(int(fl), size - 1);
     i1 = i0 + 1 == size ? 0 : i0 + 1;
