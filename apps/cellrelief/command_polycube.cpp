@@ -34,14 +34,10 @@ struct PolycubeCommandOptions {
 
 /// The mesh signal --signal names; nothing for the grid. Checked before any work is done.
 std::optional<polycube::MeshSignalKind> parseSignal(const PolycubeCommandOptions& o, const TriangleMesh& mesh) {
-  if (o.signal == "grid") return std::nullopt;
-  for (auto k : {polycube::MeshSignalKind::Normal, polycube::MeshSignalKind::Shading, polycube::MeshSignalKind::Color})
-    if (polycube::toString(k) == o.signal) {
-      if (k == polycube::MeshSignalKind::Color && !mesh.hasColors())
-        throw Error(ErrorKind::InvalidInput, o.mesh, "--signal color: the mesh has no vertex colours");
-      return k;
-    }
-  throw Error(ErrorKind::InvalidArgument, "--signal: '" + o.signal + "' is not grid, normals, shading or color");
+  const std::optional<polycube::MeshSignalKind> kind = polycube::parseSignal(o.signal, "--signal");
+  if (kind == polycube::MeshSignalKind::Color && !mesh.hasColors())
+    throw Error(ErrorKind::InvalidInput, o.mesh, "--signal color: the mesh has no vertex colours");
+  return kind;
 }
 
 /// The mesh textured through its map, rendered by the CPU reference from the preview's view.

@@ -26,13 +26,6 @@ struct PolycubeMap {
   const polycube::Polycube& cubes() const { return textured->t2->surface().polycube(); }
 };
 
-std::optional<polycube::MeshSignalKind> signalOf(const std::string& name) {
-  if (name == "grid") return std::nullopt;
-  for (auto k : {polycube::MeshSignalKind::Normal, polycube::MeshSignalKind::Shading, polycube::MeshSignalKind::Color})
-    if (polycube::toString(k) == name) return k;
-  throw Error(ErrorKind::InvalidArgument, "signal: '" + name + "' is not grid, normals, shading or color");
-}
-
 /// Cubes from an (k, 3) integer array, with an optional frame (origin, size).
 polycube::PolycubeFile cubesOf(const py::handle& cubes, const py::object& origin, const py::object& cubeSize) {
   const auto rows = rowsOf<std::int64_t>(cubes, 3, "cubes");
@@ -96,7 +89,7 @@ PolycubeMap polycubeMapOf(const TriangleMesh& mesh, const py::object& grid, cons
   o.map.energy = *e;
   if (sweeps < 1 || sweeps > 100000) throw Error(ErrorKind::InvalidArgument, "sweeps must lie in 1..100000");
   o.map.maxSweeps = sweeps;
-  o.signal = signalOf(signal);
+  o.signal = polycube::parseSignal(signal, "signal");
   o.texelsPerSquarelet = texels;
   // Progress after each sweep: the user's callback (with the GIL) and a check for Ctrl-C. A handle,
   // not an object: the options are copied without the GIL (progressOf in bind_relief.cpp says why).

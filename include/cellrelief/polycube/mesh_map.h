@@ -105,6 +105,16 @@ inline void requireUnfolded(const PolycubeParameterization& map, const TriangleM
                   " sweeps: a feature is likely thinner than a cube or the polycube misses it; " + std::string(remedy));
 }
 
+/// A signal by name: "grid" (none: the paper's pattern) or a MeshSignalKind's. Throws
+/// InvalidArgument, the message starting with `what` (the option's name), for any other name.
+inline std::optional<MeshSignalKind> parseSignal(std::string_view name, std::string_view what) {
+  if (name == "grid") return std::nullopt;
+  for (auto k : {MeshSignalKind::Normal, MeshSignalKind::Shading, MeshSignalKind::Color})
+    if (toString(k) == name) return k;
+  throw Error(ErrorKind::InvalidArgument,
+              std::string(what) + ": '" + std::string(name) + "' is not grid, normals, shading or color");
+}
+
 /// Step 3: T2 of `signal` (none: the paper's grid pattern) with S texels per squarelet side.
 /// Throws InvalidInput for colours of a mesh without vertex colours.
 inline PolycubeTexture bakeSignal(const TriangleMesh& mesh, std::span<const Vec3d> texture,

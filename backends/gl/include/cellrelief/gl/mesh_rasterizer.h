@@ -193,9 +193,6 @@ void main() {
   void draw(const render::Camera& camera, int width, int height) {
     mContext->makeCurrent();
     ensureTarget(width, height);
-    const render::DirectionalLight light;
-    const render::Scene defaults;
-    const Vec3f towards = glm::normalize(light.direction);
     glBindFramebuffer(GL_FRAMEBUFFER, mFramebuffer);
     glViewport(0, 0, width, height);
     glEnable(GL_DEPTH_TEST);
@@ -208,8 +205,8 @@ void main() {
     glClearNamedFramebufferfv(mFramebuffer, GL_DEPTH, 0, &farDepth);
     glUseProgram(mProgram);
     glUniformMatrix4fv(0, 1, GL_FALSE, gpu::cameraProjection(camera, width, height, mBounds).viewProjection);
-    glUniform3f(1, towards.x, towards.y, towards.z);
-    glUniform3f(2, defaults.ambient.x, light.intensity, 0.0f);
+    glUniform3f(1, mTowardsLight.x, mTowardsLight.y, mTowardsLight.z);
+    glUniform3f(2, mAmbient, mLightIntensity, 0.0f);
     glBindVertexArray(mVertexArray);
     glDrawElements(GL_TRIANGLES, mIndexCount, GL_UNSIGNED_INT, nullptr);
     glEndQuery(GL_TIME_ELAPSED);
@@ -219,6 +216,10 @@ void main() {
 
   std::unique_ptr<EglContext> mContext;
   Aabbd mBounds;
+  // The scene's default light and ambient term, as the ray casters shade.
+  Vec3f mTowardsLight = glm::normalize(render::DirectionalLight{}.direction);
+  float mAmbient = render::Scene{}.ambient.x;
+  float mLightIntensity = render::DirectionalLight{}.intensity;
   GLsizei mIndexCount = 0;
   GLuint mVertexArray = 0, mBuffers[3] = {0, 0, 0}, mProgram = 0, mTimer = 0;
   GLuint mFramebuffer = 0, mRenderbuffers[2] = {0, 0};
