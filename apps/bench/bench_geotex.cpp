@@ -7,9 +7,10 @@
 ///     error and hit/miss disagreement over primary rays), beside the cell complex (relief) at
 ///     about equal bytes; rays per second of the CPU tracer against Embree's rtcIntersect1 on the
 ///     same rays and threads.
-///  3. The paper's Fig. 7: frame time of the geometry textures ray cast by the OpenGL backend against
-///     the full mesh rasterized by OpenGL (gl::MeshRasterizer), as the image grows, and the largest
-///     image at which ray casting is the faster (the crossover).
+///  3. The paper's Fig. 7: frame time of the geometry textures ray cast by the OpenGL backend from
+///     their rasterized boxes (and, beside it, from a compute pass over every pixel) against the full
+///     mesh rasterized by OpenGL (gl::MeshRasterizer), as the image grows, and the largest image at
+///     which ray casting is the faster (the crossover).
 /// Writes geotex_vsa.csv, geotex_representation.csv and geotex_fig7.csv (plot: geotex_fig7.png).
 #include <algorithm>
 #include <cstdio>
@@ -137,8 +138,10 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
 }
 
 /// Fig. 7 on one mesh: for each image size, the median over `repeats` frames (after one that
-/// compiles and uploads) of the OpenGL backend ray casting the charts (colour, no shadows) and of
-/// OpenGL rasterizing the mesh: each frame drawn and its colour read back, by the wall clock, and by
+/// compiles and uploads) of the OpenGL backend ray casting the charts (colour, no shadows), from
+/// their rasterized boxes (the paper's way) and, for comparison, from a compute pass over every
+/// pixel, and of OpenGL rasterizing the mesh: each frame drawn and its colour read back, by the
+/// wall clock, and by
 /// the device's timer where the driver has one (llvmpipe's reads 0 for the ray caster and only part
 /// of a frame for the rasterizer). The crossover is by the device time where both are timed, else by
 /// the wall clock.
@@ -170,23 +173,35 @@ void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<
     options.height = height;
     options.channels = render::kColor;
     options.shadows = false;
-    rayCaster->renderFrame(camera, options);  // compiles the variant
+    for (const gpu::RayEntry entry : {gpu::RayEntry::Rasterized, gpu::RayEntry::Compute}) {
+      rayCaster->setRayEntry(entry);
+      rayCaster->renderFrame(camera, options);  // compiles the variant
+    }
     rasterizer->render(camera, width, height);
-    std::vector<double> castDevice, castWall, rasterDevice, rasterWall;
+    std::vector<double> castDevice, castWall, computeDevice, computeWall, rasterDevice, rasterWall;
     for (int r = 0; r < repeats; ++r) {
+      rayCaster->setRayEntry(gpu::RayEntry::Rasterized);
       castWall.push_back(medianSeconds(1, [&] { rayCaster->renderFrame(camera, options); }));
       castDevice.push_back(rayCaster->deviceSeconds());
+      if (rayCaster->lastRayEntry() != gpu::RayEntry::Rasterized) {
+        std::printf("%-13s Fig. 7 not measured: the camera is inside the charts' bounds (compute entry)\n", name.c_str());
+        return;
+      }
+      rayCaster->setRayEntry(gpu::RayEntry::Compute);
+      computeWall.push_back(medianSeconds(1, [&] { rayCaster->renderFrame(camera, options); }));
+      computeDevice.push_back(rayCaster->deviceSeconds());
       rasterWall.push_back(medianSeconds(1, [&] { rasterizer->render(camera, width, height); }));
       rasterDevice.push_back(rasterizer->deviceSeconds());
     }
-    const double castD = median(castDevice), rasterD = median(rasterDevice);
-    const double castW = median(castWall), rasterW = median(rasterWall);
+    const double castD = median(castDevice), computeD = median(computeDevice), rasterD = median(rasterDevice);
+    const double castW = median(castWall), computeW = median(computeWall), rasterW = median(rasterWall);
     byDevice &= castD > 0 && rasterD > 0;
     const double cast = byDevice ? castD : castW, raster = byDevice ? rasterD : rasterW;
-    std::printf("%-13s %9zu %5d x %-5d | %9.2f ms %9.2f ms | %9.2f ms %9.2f ms | %6.2fx\n", name.c_str(),
-                mesh.triangleCount(), width, height, 1e3 * castD, 1e3 * castW, 1e3 * rasterD, 1e3 * rasterW,
-                raster / cast);
-    csv.row(name, mesh.triangleCount(), width, height, castD, castW, rasterD, rasterW);
+    const double compute = byDevice ? computeD : computeW;
+    std::printf("%-13s %9zu %5d x %-5d | %9.2f ms %9.2f ms | %9.2f ms %6.2fx | %9.2f ms %9.2f ms | %6.2fx\n",
+                name.c_str(), mesh.triangleCount(), width, height, 1e3 * castD, 1e3 * castW, 1e3 * compute,
+                compute / cast, 1e3 * rasterD, 1e3 * rasterW, raster / cast);
+    csv.row(name, mesh.triangleCount(), width, height, castD, castW, computeD, computeW, rasterD, rasterW);
     if (cast < raster && !slowerOnce) crossover = {width, height};
     slowerOnce |= cast >= raster;
   }
@@ -232,7 +247,8 @@ int main(int argc, char** argv) {
     for (const int k : o.quick ? std::vector<int>{50} : std::vector<int>{50, 200}) bench::compareVsa(m.name, mesh, k, 20, vsaCsv);
   }
   bench::CsvWriter figureCsv(std::filesystem::path(o.out) / "geotex_fig7.csv",
-                             "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,raster_device_s,raster_wall_s");
+                             "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
+                             "compute_wall_s,raster_device_s,raster_wall_s");
   std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
               "bytes); %d x %d primary rays, CPU backend against Embree\n",
               size, size);
@@ -251,10 +267,11 @@ int main(int argc, char** argv) {
   const std::vector<std::pair<int, int>> sizes =
       o.quick ? std::vector<std::pair<int, int>>{{160, 120}, {320, 240}}
               : std::vector<std::pair<int, int>>{{80, 60}, {160, 120}, {320, 240}, {640, 480}, {800, 600}, {1024, 768}, {1600, 1200}};
-  std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) against the full mesh "
-              "rasterized by OpenGL, median of %d frames, each read back; device time where the driver times it\n", repeats);
-  std::printf("%-13s %9s %13s | %12s %12s | %12s %12s | %7s\n", "mesh", "triangles", "image", "cast device",
-              "cast wall", "raster dev", "raster wall", "raster/cast");
+  std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) from their rasterized boxes, "
+              "against the same cast by a compute pass over every pixel and the full mesh rasterized by OpenGL; "
+              "median of %d frames, each read back; device time where the driver times it\n", repeats);
+  std::printf("%-13s %9s %13s | %12s %12s | %12s %7s | %12s %12s | %7s\n", "mesh", "triangles", "image", "cast device",
+              "cast wall", "compute", "/cast", "raster dev", "raster wall", "raster/cast");
   for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
   const std::filesystem::path png = std::filesystem::path(o.out) / "geotex_fig7.png";
   app::drawPlot("plot_geotex_fig7", figureCsv.path(), png);

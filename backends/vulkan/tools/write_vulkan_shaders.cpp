@@ -2,10 +2,11 @@
 // Build step of the Vulkan backend: writes the GLSL that glslc compiles into its SPIR-V, the
 // shared traversal body with the preamble the OpenGL backend prepends at run time (the constants
 // from the C++ values, gpu::traversalConstants), and the variant switches as specialization
-// constants. Usage: cellrelief_write_vulkan_shaders <output folder>.
+// constants; and the cover of the rasterized entry with the same constants. Usage: cellrelief_write_vulkan_shaders <output folder>.
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "cellrelief/gpu/shader_preamble.h"
 
@@ -32,9 +33,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string folder = argv[1];
-  for (const bool fragment : {false, true}) {
-    const std::string path = folder + (fragment ? "/relief_trace.frag" : "/relief_trace.comp");
-    if (!writeIfChanged(path, cellrelief::gpu::reliefTraceShaderForVulkan(fragment))) {
+  const std::pair<std::string, std::string> shaders[] = {
+      {"/relief_trace.comp", cellrelief::gpu::reliefTraceShaderForVulkan(false)},
+      {"/relief_trace.frag", cellrelief::gpu::reliefTraceShaderForVulkan(true)},
+      {"/cell_cover.vert", cellrelief::gpu::cellCoverShader(true)}};
+  for (const auto& [name, text] : shaders) {
+    const std::string path = folder + name;
+    if (!writeIfChanged(path, text)) {
       std::fprintf(stderr, "cellrelief_write_vulkan_shaders: cannot write %s\n", path.c_str());
       return 1;
     }

@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 // What both GPU backends must do alike, as one typed suite over OpenGL and Vulkan: shader variants
 // (the specialized variant, the general shader and the four-fetch read render the same frame),
-// the rasterized entry (the compute pass's frame, a stencil that really limits the fragment
-// pass, compute when the eye is inside), a model with more face layers than the device has array
+// the rasterized entry of grey cells and chart boxes (the compute pass's frame, a stencil that
+// really limits the fragment pass, compute when the eye is inside), a model with more face layers than the device has array
 // layers, and misuse refused with a clear error. Under CI a GPU backend that does not come up
 // fails these tests instead of skipping them.
 #include <gtest/gtest.h>
 
 #include <cellrelief/backends/backend_table.h>
 #include <cellrelief/core/procedural.h>
+#include <cellrelief/geotex/convert.h>
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/frame_comparison.h>
 
@@ -142,6 +143,57 @@ TYPED_TEST(GpuBackendTest, TheRasterizedEntryRendersTheComputePassesFrame) {
   EXPECT_EQ(backend.lastRayEntry(), RayEntry::Compute);
 }
 
+TYPED_TEST(GpuBackendTest, TheRasterizedEntryOfChartBoxesRendersTheComputePassesFrame) {
+  // Geometry textures beside a relief model, shadows on: their chart boxes join the grey cells in
+  // the stencil (the geometry-textures paper's way), and the frame must stay the compute pass's.
+  TriangleMesh sphere = makeIcosphere(4, 0.6f);
+  for (Vec3f& p : sphere.positions) p += Vec3f(1.9f, 0.0f, 0.3f);
+  geotex::GeoTexOptions charts;
+  charts.vsa.proxies = 20;
+  charts.maxTexels = 32;
+  render::Scene scene;
+  scene.models = {torus(8, 9)};
+  scene.geotexModels = {std::make_shared<geotex::GeoTexModel>(geotex::convertMesh(sphere, charts).model)};
+  render::RenderOptions options;
+  options.width = 120;
+  options.height = 90;
+  TypeParam backend;
+  backend.upload(scene);
+  for (const render::Camera& camera :
+       {render::Camera::framing(scene.boundsWS().center(), 0.5 * scene.boundsWS().diagonal(), 35, 20),
+        render::Camera::framing(scene.boundsWS().center(), 0.25 * scene.boundsWS().diagonal(), 160, -40)}) {
+    backend.setRayEntry(RayEntry::Compute);
+    const render::Frame compute = backend.renderFrame(camera, options);
+    backend.setRayEntry(RayEntry::Rasterized);
+    const render::Frame raster = backend.renderFrame(camera, options);
+    EXPECT_EQ(backend.lastRayEntry(), RayEntry::Rasterized);
+    expectSameFrames(compute, raster, 1.0 / 8 / 8, "rasterized vs compute, with chart boxes");
+  }
+  {
+    // The chart boxes' cover must really limit the pass: the relief model gone, boxes shrunk by
+    // a third of their size on each side lose much of the sphere.
+    render::Scene chartsOnly;
+    chartsOnly.geotexModels = scene.geotexModels;
+    TypeParam alone;
+    alone.upload(chartsOnly);
+    const Aabbd bounds = chartsOnly.boundsWS();
+    const render::Camera camera = render::Camera::framing(bounds.center(), 0.3 * bounds.diagonal(), 20, 30);
+    const render::Frame whole = alone.renderFrame(camera, options);
+    alone.setCoverDilation(-0.34);
+    const render::Frame shrunk = alone.renderFrame(camera, options);
+    EXPECT_EQ(alone.lastRayEntry(), RayEntry::Rasterized);
+    const render::FrameAgreement dropped = render::compareFrames(whole, shrunk, 1.0);
+    EXPECT_GT(dropped.bothHit + dropped.maskDiffers, 1500u);
+    EXPECT_GT(dropped.maskDiffers, (dropped.bothHit + dropped.maskDiffers) / 4);
+  }
+  // The eye inside a chart's box: every pixel must run, so the compute pass does.
+  const geotex::ChartBox& box = scene.geotexModels[0]->charts[0];
+  render::Camera inside;
+  inside.eye = box.originWS + 0.5 * (box.axisWS[0] * box.sizeWS.x + box.axisWS[1] * box.sizeWS.y + box.axisWS[2] * box.sizeWS.z);
+  inside.target = inside.eye + box.axisWS[2];
+  backend.renderFrame(inside, options);
+  EXPECT_EQ(backend.lastRayEntry(), RayEntry::Compute);
+}
 
 TYPED_TEST(GpuBackendTest, AModelWithMoreFaceLayersThanArrayLayersRendersAsOnTheCpu) {
   const auto model = torus(64, 5);

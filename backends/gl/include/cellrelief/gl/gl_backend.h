@@ -4,8 +4,9 @@
 /// lookup in storage buffers, maps in integer array-texture atlases) and the one GLSL traversal
 /// (backends/shaders/relief_trace.comp), on a headless EGL context (egl_context.h).
 ///
-/// By default the traversal runs the paper's way: the grey cells are rasterized into a stencil and
-/// the traversal runs as a fragment pass on the covered pixels only (early fragment tests). It
+/// By default the traversal runs the paper's way: the grey cells (and geometry textures' chart
+/// boxes) are rasterized into a stencil and the traversal runs as a fragment pass on the covered
+/// pixels only (early fragment tests). It
 /// measured 1.3x to 2.1x the compute pass over all pixels on llvmpipe (docs/backends.md), with the
 /// same frame; the compute pass (setRayEntry(RayEntry::Compute)) remains, and is used whenever the
 /// eye is inside a model's grid.
@@ -328,13 +329,11 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     return program;
   }
 
-  /// The paper's way: grey cells into the stencil, then the traversal on the covered pixels.
-  /// Pixels no grey cell covers get the miss values first (their rays visit no grey cell).
   /// What the rasterized entry needs, made before a frame starts (creation may throw).
   void prepareRasterized(const render::RenderOptions& o) {
     ensureStencil(o.width, o.height);
     if (!mCoverProgram)
-      mCoverProgram = linkProgram({{GL_VERTEX_SHADER, std::string(gpu::kCellCoverVert)},
+      mCoverProgram = linkProgram({{GL_VERTEX_SHADER, gpu::cellCoverShader()},
                                    {GL_FRAGMENT_SHADER, "#version 450\nvoid main() {}\n"}},
                                   "the cell cover shader");
     if (!mEmptyVertexArray) glCreateVertexArrays(1, &mEmptyVertexArray);
@@ -356,6 +355,8 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
                                                 mContext->renderer() + " renders in one pass");
   }
 
+  /// The paper's way: grey cells and chart boxes into the stencil, then the traversal on the
+  /// covered pixels. Pixels nothing covers get the miss values first (their rays meet nothing).
   void renderRasterized(const render::Camera& camera, const render::RenderOptions& o, const FrameLayout& layout,
                         GLuint traversal) {
     clearToMisses(layout);
@@ -372,12 +373,17 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glBindVertexArray(mEmptyVertexArray);
     glUseProgram(mCoverProgram);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, mBuffers[1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, mBuffers[5]);
     glBindBufferBase(GL_UNIFORM_BUFFER, 10, mCoverBuffer);
-    for (std::size_t m = 0; m < mScene.models.size(); ++m) {
-      const CoverParams cover = gpu::coverParams(mScene, mGpu, camera, o, m, mCoverDilation);
+    const auto drawCover = [&](const CoverParams& cover, std::size_t instances) {
+      if (instances == 0) return;
       glNamedBufferSubData(mCoverBuffer, 0, sizeof cover, &cover);
-      glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(mScene.models[m]->cells.size()));
-    }
+      glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(instances));
+    };
+    for (std::size_t m = 0; m < mScene.models.size(); ++m)
+      drawCover(gpu::coverParams(mScene, mGpu, camera, o, m, mCoverDilation), mScene.models[m]->cells.size());
+    for (std::size_t m = 0; m < mScene.geotexModels.size(); ++m)
+      drawCover(gpu::chartCoverParams(mScene, camera, o, m, mCoverDilation), mScene.geotexModels[m]->charts.size());
     glStencilFunc(GL_EQUAL, 1, 0xff);
     glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     glUseProgram(traversal);

@@ -44,8 +44,9 @@ class TraversalControls {
   void setRayEntry(RayEntry entry) { mEntry = entry; }
   /// How the last render reached its pixels.
   RayEntry lastRayEntry() const { return mLastEntry; }
-  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them):
-  /// for tests that check the stencil really limits the fragment pass.
+  /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them)
+  /// and chart boxes (fractions of each box): for tests that check the stencil really limits the
+  /// fragment pass.
   void setCoverDilation(std::optional<double> cells) { mCoverDilation = cells; }
 
  protected:
@@ -81,9 +82,9 @@ struct FrameParams {
 /// Vulkan: 112 bytes, within the 128 every Vulkan device offers).
 struct CoverParams {
   float viewProjection[16];  ///< column-major
-  float originAndCellSize[4];
-  float dilation[4];
-  std::int32_t cellOffset[4];
+  float originAndCellSize[4];  ///< cells: the grid's origin and cell size
+  float dilation[4];           ///< cells: [0] in cell units; chart boxes: [1] world units + [2] x the box
+  std::int32_t cellOffset[4];  ///< [0] the first cell, or the geometry-texture model; [1] 0 cells, 1 chart boxes
 };
 static_assert(sizeof(CoverParams) <= 128);
 
@@ -172,13 +173,13 @@ inline void checkSceneSupported(const render::Scene& scene, const char* backend)
                                                 " lights; the scene has " + std::to_string(scene.lights.size()));
 }
 
-/// Whether the rasterized entry (rays started where the cells' cover is drawn) sees everything
-/// the compute entry does: when the eye lies outside every model's grid (with a margin), every
-/// ray enters the grids from outside, where the rasterized cells show it. A scene with polycube
-/// meshes, geometry textures or relief surfaces always takes the compute entry (the cells' cover
-/// would hide them).
+/// Whether the rasterized entry (rays started where the cover of grey cells and chart boxes is
+/// drawn) sees everything the compute entry does: when the eye lies outside the scene's bounds
+/// (with a margin), every ray enters the grids and boxes from outside, where their rasterized
+/// faces show it. A scene with polycube meshes or relief surfaces always takes the compute entry
+/// (the cover would hide them).
 inline bool rasterizedEntryServes(const render::Scene& scene, const render::Camera& camera) {
-  if (!scene.polycubeMeshes.empty() || !scene.geotexModels.empty() || !scene.reliefSurfaces.empty()) return false;
+  if (!scene.polycubeMeshes.empty() || !scene.reliefSurfaces.empty()) return false;
   const Aabbd bounds = scene.boundsWS();
   const Vec3d margin(0.01 * bounds.diagonal());
   return glm::any(glm::lessThan(camera.eye, bounds.min - margin)) ||
@@ -243,6 +244,26 @@ inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuSc
   const double pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
   p.dilation[0] = float(dilationCells ? *dilationCells : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
   p.cellOffset[0] = gpuScene.models[model].cellOffset;
+  return p;
+}
+
+/// The cover of one geometry-texture model: its chart boxes (one instance each), enlarged like
+/// the cells by two pixels at the scene's farthest point (in world units). `dilationBoxes`
+/// overrides the enlargement, as a fraction of each box's own size per axis (tests: a negative
+/// one shrinks the boxes).
+inline CoverParams chartCoverParams(const render::Scene& scene, const render::Camera& camera,
+                                    const render::RenderOptions& o, std::size_t geotexModel,
+                                    std::optional<double> dilationBoxes = std::nullopt,
+                                    ClipSpace clip = ClipSpace::OpenGL) {
+  const CameraProjection projection = cameraProjection(camera, o.width, o.height, scene.boundsWS(), clip);
+  CoverParams p{};
+  std::copy_n(projection.viewProjection, 16, p.viewProjection);
+  const double pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
+  const double floorWS = 1e-6 * scene.boundsWS().diagonal();  // a box seen edge-on still covers its pixels
+  p.dilation[1] = dilationBoxes ? 0.0f : float(std::max(floorWS, 2 * pixelWS));
+  p.dilation[2] = dilationBoxes ? float(*dilationBoxes) : 0.0f;
+  p.cellOffset[0] = std::int32_t(geotexModel);
+  p.cellOffset[1] = 1;
   return p;
 }
 

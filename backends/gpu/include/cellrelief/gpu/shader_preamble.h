@@ -312,4 +312,14 @@ inline std::string reliefTraceShaderForVulkan(bool fragment) {
   return s;
 }
 
+/// The cover of the rasterized entry (cell_cover.vert) with the traversal's constants, for
+/// OpenGL at run time or (`vulkan`) for glslc at build time: it reads the same chart records.
+inline std::string cellCoverShader(bool vulkan = false) {
+  std::string s = vulkan ? "#version 450\n#define CR_VULKAN\n" : "#version 450\n";
+  s += traversalConstants();
+  s += "#line 1\n";
+  s += std::string(kCellCoverVert);
+  return s;
+}
+
 }  // namespace cellrelief::gpu

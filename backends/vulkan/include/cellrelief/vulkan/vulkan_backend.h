@@ -7,10 +7,11 @@
 /// set of specialization constants, so the driver removes what the scene lacks when it builds
 /// the pipeline; pipelines are cached per variant.
 ///
-/// As in OpenGL, the traversal reaches the pixels the paper's way by default: the grey cells are
-/// drawn into a stencil and the traversal runs as a fragment pass on the covered pixels only
-/// (RayEntry::Rasterized, with dynamic rendering); or as a compute pass over every pixel, which
-/// is also what runs when the eye is inside a grid or the device cannot draw.
+/// As in OpenGL, the traversal reaches the pixels the paper's way by default: the grey cells and
+/// chart boxes are drawn into a stencil and the traversal runs as a fragment pass on the covered
+/// pixels only (RayEntry::Rasterized, with dynamic rendering); or as a compute pass over every
+/// pixel, which is also what runs when the eye is inside the scene's bounds or the device cannot
+/// draw.
 ///
 /// Uploads go through a staging buffer into device-local memory; the frame is written to a
 /// storage buffer read back through host-visible memory (where the device's memory is the host's
@@ -579,8 +580,8 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     check(vk.vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   }
 
-  /// The paper's way: the frame cleared to the miss values, the grey cells into the stencil, then
-  /// the traversal on the covered pixels.
+  /// The paper's way: the frame cleared to the miss values, the grey cells and chart boxes into
+  /// the stencil, then the traversal on the covered pixels.
   void recordRasterized(VkCommandBuffer cmd, const render::Camera& camera, const render::RenderOptions& o,
                         const gpu::FrameLayout& layout, VkPipeline traversal) {
     const Api& vk = mContext->api();
@@ -609,13 +610,17 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     vk.vkCmdSetScissor(cmd, 0, 1, &scissor);
     vk.vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mPipelineLayout, 0, 1, &mSet, 0, nullptr);
     vk.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, mCoverPipeline);
-    for (std::size_t m = 0; m < mScene.models.size(); ++m) {
-      if (mScene.models[m]->cells.empty()) continue;
-      const gpu::CoverParams cover =
-          gpu::coverParams(mScene, mGpu, camera, o, m, mCoverDilation, gpu::ClipSpace::Vulkan);
+    const auto drawCover = [&](const gpu::CoverParams& cover, std::size_t instances) {
+      if (instances == 0) return;
       vk.vkCmdPushConstants(cmd, mPipelineLayout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof cover, &cover);
-      vk.vkCmdDraw(cmd, 36, std::uint32_t(mScene.models[m]->cells.size()), 0, 0);
-    }
+      vk.vkCmdDraw(cmd, 36, std::uint32_t(instances), 0, 0);
+    };
+    for (std::size_t m = 0; m < mScene.models.size(); ++m)
+      drawCover(gpu::coverParams(mScene, mGpu, camera, o, m, mCoverDilation, gpu::ClipSpace::Vulkan),
+                mScene.models[m]->cells.size());
+    for (std::size_t m = 0; m < mScene.geotexModels.size(); ++m)
+      drawCover(gpu::chartCoverParams(mScene, camera, o, m, mCoverDilation, gpu::ClipSpace::Vulkan),
+                mScene.geotexModels[m]->charts.size());
     vk.vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, traversal);
     vk.vkCmdDraw(cmd, 3, 1, 0, 0);
     vk.vkCmdEndRendering(cmd);
