@@ -1475,14 +1475,28 @@ float gtTaps(Chart ch, vec2 p, out uint texels[4], out float weights[4]) {
   return total;
 }
 
-// GeoTexTracer::height: the surface height at chart point p, -CR_GT_NO_SURFACE where none.
+// GeoTexTracer::height: the surface height at chart point p, -CR_GT_NO_SURFACE where none. The
+// taps of gtTaps written out, in its order: arrays indexed in a loop cost llvmpipe a trip through
+// memory per sample (this hot path measured 1.3x as fast without them).
 float gtHeight(Chart ch, vec2 p) {
-  uint texels[4];
-  float weights[4];
-  const float total = gtTaps(ch, p, texels, weights);
+  const float far = float(1 << 30);
+  if (!(p.x > -far && p.x < far && p.y > -far && p.y < far)) return -CR_GT_NO_SURFACE;
+  const int ni = clamp(int(floor(p.x)), 0, ch.width - 1), nj = clamp(int(floor(p.y)), 0, ch.height - 1);
+  if (gtCode(ch, ch.firstTexel + uint(nj * ch.width + ni)) == ch.emptyCode) return -CR_GT_NO_SURFACE;
+  const vec2 f = p - 0.5;
+  const int i0 = int(floor(f.x)), j0 = int(floor(f.y));
+  const float ax = f.x - float(i0), ay = f.y - float(j0);
+  const uint ia = uint(clamp(i0, 0, ch.width - 1)), ib = uint(clamp(i0 + 1, 0, ch.width - 1));
+  const uint rowA = ch.firstTexel + uint(clamp(j0, 0, ch.height - 1) * ch.width);
+  const uint rowB = ch.firstTexel + uint(clamp(j0 + 1, 0, ch.height - 1) * ch.width);
+  const uint c0 = gtCode(ch, rowA + ia), c1 = gtCode(ch, rowA + ib), c2 = gtCode(ch, rowB + ia), c3 = gtCode(ch, rowB + ib);
+  const float w0 = c0 == ch.emptyCode ? 0.0 : (1.0 - ax) * (1.0 - ay);
+  const float w1 = c1 == ch.emptyCode ? 0.0 : ax * (1.0 - ay);
+  const float w2 = c2 == ch.emptyCode ? 0.0 : (1.0 - ax) * ay;
+  const float w3 = c3 == ch.emptyCode ? 0.0 : ax * ay;
+  const float total = w0 + w1 + w2 + w3;
   if (!(total > 0.0)) return -CR_GT_NO_SURFACE;
-  float h = 0.0;
-  for (int k = 0; k < 4; ++k) h += weights[k] * float(gtCode(ch, texels[k]));
+  const float h = w0 * float(c0) + w1 * float(c1) + w2 * float(c2) + w3 * float(c3);
   return h / total * ch.heightScale;
 }
 
