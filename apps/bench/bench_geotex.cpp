@@ -7,11 +7,14 @@
 ///     error and hit/miss disagreement over primary rays), beside the cell complex (relief) at
 ///     about equal bytes; rays per second of the CPU tracer against Embree's rtcIntersect1 on the
 ///     same rays and threads.
-///  3. The paper's Fig. 7: frame time of the geometry textures ray cast by the OpenGL backend from
+///  3. The VSA columns of the paper's Tables 2 and 3 on the bunny, as we measure them: for K from 25
+///     to 400 charts, the partition's error, folds, empty texels, bytes, accuracy and speed.
+///  4. The paper's Fig. 7: frame time of the geometry textures ray cast by the OpenGL backend from
 ///     their rasterized boxes (and, beside it, from a compute pass over every pixel) against the full
 ///     mesh rasterized by OpenGL (gl::MeshRasterizer), as the image grows, and the largest image at
 ///     which ray casting is the faster (the crossover).
-/// Writes geotex_vsa.csv, geotex_representation.csv and geotex_fig7.csv (plot: geotex_fig7.png).
+/// Writes geotex_vsa.csv, geotex_representation.csv, geotex_chart_counts.csv and geotex_fig7.csv
+/// (plot: geotex_fig7.png).
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -135,6 +138,40 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
   std::printf("%-13s %-14s %9s %9.2f MiB | the reference                          | %6.2f Mrays/s\n", name.c_str(),
               "Embree", "", double(embree.byteSize()) / (1 << 20), rays / embreeSeconds * 1e-6);
   return charts;
+}
+
+/// The VSA columns of the paper's Tables 2 and 3 on one mesh, as we measure them: the mesh as
+/// geometry textures of K charts (maps up to 128 texels, the default) for each K, with the
+/// partition's L2,1 error, the charts' folds (faces inverted along the box's z) and empty texels,
+/// the bytes, and the accuracy and speed of the CPU tracer against Embree on primary rays.
+void chartCountTable(const std::string& name, const TriangleMesh& mesh, const std::vector<int>& counts, int size,
+                     int repeats, CsvWriter& csv) {
+  const embree::EmbreeScene embree(mesh);
+  const double diagonal = mesh.surfaceBounds().diagonal(), area = surfaceArea(mesh);
+  const render::Camera camera = cameraFor(mesh);
+  const render::Frame reference = embree.renderReference(camera, size, size);
+  for (const int k : counts) {
+    geotex::GeoTexOptions o;
+    o.vsa.proxies = k;
+    geotex::GeoTexConversion conversion;
+    const double seconds = medianSeconds(1, [&] { conversion = geotex::convertMesh(mesh, o); });
+    const double l21 = geotex::partitionError(mesh, conversion.partition.regionOfFace, geotex::VsaMetric::L21) / area;
+    std::size_t foldedCharts = 0;
+    for (const geotex::ChartReport& c : conversion.charts) foldedCharts += c.foldedFaces > 0;
+    const auto model = std::make_shared<geotex::GeoTexModel>(std::move(conversion.model));
+    const double emptyShare = double(conversion.emptyTexels()) / double(std::max<std::uint64_t>(1, model->texelCount()));
+    render::Scene scene;
+    scene.geotexModels.push_back(model);
+    const Accuracy a = measure(scene, camera, reference, size, repeats);
+    const double mrays = double(size) * size / a.seconds * 1e-6;
+    std::printf("%-13s %5d %6zu | %7.2f s %10.3e | %6zu %7zu %6.1f%% | %8.2f MiB | %.4f%% %.4f%% %6.0f /M | %6.2f Mrays/s\n",
+                name.c_str(), k, model->charts.size(), seconds, l21, foldedCharts, conversion.foldedFaces(),
+                100 * emptyShare, double(model->byteSize()) / (1 << 20), 100 * a.rays.depthError.median / diagonal,
+                100 * a.rays.depthError.p99 / diagonal, 1e6 * a.rays.disagreementRate(), mrays);
+    csv.row(name, mesh.triangleCount(), k, model->charts.size(), seconds, l21, foldedCharts, conversion.foldedFaces(),
+            emptyShare, model->byteSize(), a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal,
+            a.rays.disagreementRate(), mrays);
+  }
 }
 
 /// Fig. 7 on one mesh: for each image size, the median over `repeats` frames (after one that
@@ -263,6 +300,18 @@ int main(int argc, char** argv) {
     Measured& entry = measured.emplace_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
     entry.charts = bench::compareRepresentations(m.name, entry.mesh, size, repeats, reprCsv);
   }
+  bench::CsvWriter chartsCsv(std::filesystem::path(o.out) / "geotex_chart_counts.csv",
+                             "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
+                             "empty_texel_share,bytes,depth_median_diag,depth_p99_diag,disagreement,mrays_per_s");
+  const char* tableMesh = o.quick ? "fertility_9k" : "bunny";
+  std::printf("\nThe VSA columns of the paper's Tables 2 and 3, on the %s: K charts (maps up to 128 texels), "
+              "%d x %d primary rays on the CPU backend against Embree\n", tableMesh, size, size);
+  std::printf("%-13s %5s %6s | %9s %10s | %6s %7s %7s | %12s | %-23s | %s\n", "mesh", "K", "charts", "convert",
+              "L21/area", "folded", "faces", "empty", "bytes", "depth median, p99, miss", "CPU");
+  for (const Measured& m : measured)
+    if (m.name == tableMesh)
+      bench::chartCountTable(m.name, m.mesh, o.quick ? std::vector<int>{25, 50} : std::vector<int>{25, 50, 100, 200, 400},
+                             size, repeats, chartsCsv);
   // The paper's Fig. 7 sizes, 4:3 as its frames, and one smaller where the crossover may lie on a CPU device.
   const std::vector<std::pair<int, int>> sizes =
       o.quick ? std::vector<std::pair<int, int>>{{160, 120}, {320, 240}}
@@ -275,6 +324,7 @@ int main(int argc, char** argv) {
   for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
   const std::filesystem::path png = std::filesystem::path(o.out) / "geotex_fig7.png";
   app::drawPlot("plot_geotex_fig7", figureCsv.path(), png);
-  std::printf("\nwrote %s, %s and %s\n", vsaCsv.path().c_str(), reprCsv.path().c_str(), figureCsv.path().c_str());
+  std::printf("\nwrote %s, %s, %s and %s\n", vsaCsv.path().c_str(), reprCsv.path().c_str(), chartsCsv.path().c_str(),
+              figureCsv.path().c_str());
   return 0;
 }
