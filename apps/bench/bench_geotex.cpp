@@ -3,8 +3,9 @@
 /// Geometry textures against their peers, measured in one run:
 ///  1. VSA: ours (geotex::partitionVsa) against CGAL's Surface_mesh_approximation at equal proxy
 ///     counts and iterations, both partitions scored by the same L2,1 error.
-///  2. The representation: conversion time, bytes, and accuracy against Embree on the mesh (depth
-///     error and hit/miss disagreement over primary rays), beside the cell complex (relief) at
+///  2. The representation: conversion time, bytes, surface error (two-sided RMS and Hausdorff of
+///     the reconstructions against the mesh) and accuracy against Embree on the mesh (depth error
+///     and hit/miss disagreement over primary rays), beside the cell complex (relief) at
 ///     about equal bytes; rays per second of the CPU tracer against Embree's rtcIntersect1 on the
 ///     same rays and threads.
 ///  3. The VSA columns of the paper's Tables 2 and 3 on the bunny, as we measure them: for K from 25
@@ -24,9 +25,12 @@
 #include <cellrelief/cpu/cpu_backend.h>
 #include <cellrelief/embree/embree_scene.h>
 #include <cellrelief/geotex/convert.h>
+#include <cellrelief/geotex/reconstruct.h>
 #include <cellrelief/io/mesh_io.h>
+#include <cellrelief/metrics/geometric_error.h>
 #include <cellrelief/metrics/ray_comparison.h>
 #include <cellrelief/relief/convert.h>
+#include <cellrelief/relief/reconstruct.h>
 #ifdef CELLRELIEF_HAS_OPENGL
 #include <cellrelief/gl/gl_backend.h>
 #include <cellrelief/gl/mesh_rasterizer.h>
@@ -123,18 +127,27 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
   chartScene.geotexModels.push_back(charts);
   const Accuracy chartsAccuracy = measure(chartScene, camera, reference, size, repeats);
 
+  // Surface error, two-sided against the mesh: the cell complex's default reconstruction, and the
+  // charts' union (geotex::reconstruct: texel centres at their heights).
+  const metrics::DistanceField field(mesh);
+  const metrics::SurfaceError cellsSurface = metrics::surfaceError(mesh, field, relief::reconstruct(*cells, {}));
+  const metrics::SurfaceError chartsSurface = metrics::surfaceError(mesh, field, geotex::reconstruct(*charts));
+
   const double rays = double(size) * size;
-  auto row = [&](const char* what, double convertSeconds, std::size_t bytes, const Accuracy& a) {
+  auto row = [&](const char* what, double convertSeconds, std::size_t bytes, const metrics::SurfaceError& surface,
+                 const Accuracy& a) {
     const double mrays = rays / a.seconds * 1e-6, embreeMrays = rays / embreeSeconds * 1e-6;
-    std::printf("%-13s %-14s %7.2f s %9.2f MiB | depth median %.4f%% p99 %.4f%% | %6.0f /M disagree | %6.2f Mrays/s "
-                "(%.3fx Embree)\n",
-                name.c_str(), what, convertSeconds, double(bytes) / (1 << 20), 100 * a.rays.depthError.median / diagonal,
+    std::printf("%-13s %-14s %7.2f s %9.2f MiB | RMS %.4f%% Hausdorff %.3f%% | depth median %.4f%% p99 %.4f%% | "
+                "%6.0f /M disagree | %6.2f Mrays/s (%.3fx Embree)\n",
+                name.c_str(), what, convertSeconds, double(bytes) / (1 << 20), 100 * surface.rms() / diagonal,
+                100 * surface.hausdorff() / diagonal, 100 * a.rays.depthError.median / diagonal,
                 100 * a.rays.depthError.p99 / diagonal, 1e6 * a.rays.disagreementRate(), mrays, mrays / embreeMrays);
-    csv.row(name, what, convertSeconds, bytes, a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal,
-            a.rays.disagreementRate(), mrays, embreeMrays);
+    csv.row(name, what, convertSeconds, bytes, surface.rms() / diagonal, surface.hausdorff() / diagonal,
+            a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal, a.rays.disagreementRate(), mrays,
+            embreeMrays);
   };
-  row("cell complex", cellsConvert, cells->byteSize(), cellsAccuracy);
-  row("geotex", chartsConvert, charts->byteSize(), chartsAccuracy);
+  row("cell complex", cellsConvert, cells->byteSize(), cellsSurface, cellsAccuracy);
+  row("geotex", chartsConvert, charts->byteSize(), chartsSurface, chartsAccuracy);
   std::printf("%-13s %-14s %9s %9.2f MiB | the reference                          | %6.2f Mrays/s\n", name.c_str(),
               "Embree", "", double(embree.byteSize()) / (1 << 20), rays / embreeSeconds * 1e-6);
   return charts;
@@ -143,13 +156,15 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
 /// The VSA columns of the paper's Tables 2 and 3 on one mesh, as we measure them: the mesh as
 /// geometry textures of K charts (maps up to 128 texels, the default) for each K, with the
 /// partition's L2,1 error, the charts' folds (faces inverted along the box's z) and empty texels,
-/// the bytes, and the accuracy and speed of the CPU tracer against Embree on primary rays.
+/// the bytes, the surface error of the charts against the mesh, and the accuracy and speed of the
+/// CPU tracer against Embree on primary rays.
 void chartCountTable(const std::string& name, const TriangleMesh& mesh, const std::vector<int>& counts, int size,
                      int repeats, CsvWriter& csv) {
   const embree::EmbreeScene embree(mesh);
   const double diagonal = mesh.surfaceBounds().diagonal(), area = surfaceArea(mesh);
   const render::Camera camera = cameraFor(mesh);
   const render::Frame reference = embree.renderReference(camera, size, size);
+  const metrics::DistanceField field(mesh);
   for (const int k : counts) {
     geotex::GeoTexOptions o;
     o.vsa.proxies = k;
@@ -159,18 +174,21 @@ void chartCountTable(const std::string& name, const TriangleMesh& mesh, const st
     std::size_t foldedCharts = 0;
     for (const geotex::ChartReport& c : conversion.charts) foldedCharts += c.foldedFaces > 0;
     const auto model = std::make_shared<geotex::GeoTexModel>(std::move(conversion.model));
+    const metrics::SurfaceError surface = metrics::surfaceError(mesh, field, geotex::reconstruct(*model));
     const double emptyShare = double(conversion.emptyTexels()) / double(std::max<std::uint64_t>(1, model->texelCount()));
     render::Scene scene;
     scene.geotexModels.push_back(model);
     const Accuracy a = measure(scene, camera, reference, size, repeats);
     const double mrays = double(size) * size / a.seconds * 1e-6;
-    std::printf("%-13s %5d %6zu | %7.2f s %10.3e | %6zu %7zu %6.1f%% | %8.2f MiB | %.4f%% %.4f%% %6.0f /M | %6.2f Mrays/s\n",
+    std::printf("%-13s %5d %6zu | %7.2f s %10.3e | %6zu %7zu %6.1f%% | %8.2f MiB | %.4f%% %.3f%% | %.4f%% %.4f%% %6.0f /M "
+                "| %6.2f Mrays/s\n",
                 name.c_str(), k, model->charts.size(), seconds, l21, foldedCharts, conversion.foldedFaces(),
-                100 * emptyShare, double(model->byteSize()) / (1 << 20), 100 * a.rays.depthError.median / diagonal,
+                100 * emptyShare, double(model->byteSize()) / (1 << 20), 100 * surface.rms() / diagonal,
+                100 * surface.hausdorff() / diagonal, 100 * a.rays.depthError.median / diagonal,
                 100 * a.rays.depthError.p99 / diagonal, 1e6 * a.rays.disagreementRate(), mrays);
     csv.row(name, mesh.triangleCount(), k, model->charts.size(), seconds, l21, foldedCharts, conversion.foldedFaces(),
-            emptyShare, model->byteSize(), a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal,
-            a.rays.disagreementRate(), mrays);
+            emptyShare, model->byteSize(), surface.rms() / diagonal, surface.hausdorff() / diagonal,
+            a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal, a.rays.disagreementRate(), mrays);
   }
 }
 
@@ -288,8 +306,8 @@ int main(int argc, char** argv) {
                           "mesh,triangles,proxies,iterations,ours_seconds,ours_l21_per_area,cgal_proxies,cgal_seconds,"
                           "cgal_l21_per_area");
   bench::CsvWriter reprCsv(std::filesystem::path(o.out) / "geotex_representation.csv",
-                           "mesh,representation,convert_seconds,bytes,depth_median_diag,depth_p99_diag,disagreement,"
-                           "mrays_per_s,embree_mrays_per_s");
+                           "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
+                           "depth_p99_diag,disagreement,mrays_per_s,embree_mrays_per_s");
   std::printf("VSA, L2,1 error per unit area (both partitions scored alike), 20 iterations after seeding\n");
   std::printf("%-13s %8s %5s | %8s %10s | %8s %10s | %7s %6s\n", "mesh", "faces", "K", "ours s", "L21/area", "CGAL s",
               "L21/area", "speedup", "error");
@@ -303,7 +321,8 @@ int main(int argc, char** argv) {
                              "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
                              "compute_wall_s,raster_device_s,raster_wall_s");
   std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
-              "bytes); %d x %d primary rays, CPU backend against Embree\n",
+              "bytes); surface error of the reconstructions against the mesh (200,000 points a side, %% of the "
+              "diagonal); %d x %d primary rays, CPU backend against Embree\n",
               size, size);
   struct Measured {
     std::string name;
@@ -318,12 +337,14 @@ int main(int argc, char** argv) {
   }
   bench::CsvWriter chartsCsv(std::filesystem::path(o.out) / "geotex_chart_counts.csv",
                              "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
-                             "empty_texel_share,bytes,depth_median_diag,depth_p99_diag,disagreement,mrays_per_s");
+                             "empty_texel_share,bytes,rms_diag,hausdorff_diag,depth_median_diag,depth_p99_diag,"
+                             "disagreement,mrays_per_s");
   const char* tableMesh = o.quick ? "fertility_9k" : "bunny";
   std::printf("\nThe VSA columns of the paper's Tables 2 and 3, on the %s: K charts (maps up to 128 texels), "
               "%d x %d primary rays on the CPU backend against Embree\n", tableMesh, size, size);
-  std::printf("%-13s %5s %6s | %9s %10s | %6s %7s %7s | %12s | %-23s | %s\n", "mesh", "K", "charts", "convert",
-              "L21/area", "folded", "faces", "empty", "bytes", "depth median, p99, miss", "CPU");
+  std::printf("%-13s %5s %6s | %9s %10s | %6s %7s %7s | %12s | %-17s | %-23s | %s\n", "mesh", "K", "charts",
+              "convert", "L21/area", "folded", "faces", "empty", "bytes", "RMS, Hausdorff", "depth median, p99, miss",
+              "CPU");
   for (const Measured& m : measured)
     if (m.name == tableMesh)
       bench::chartCountTable(m.name, m.mesh, o.quick ? std::vector<int>{25, 50} : std::vector<int>{25, 50, 100, 200, 400},
