@@ -2,7 +2,8 @@
 // Build step of the Vulkan backend: writes the GLSL that glslc compiles into its SPIR-V, the
 // shared traversal body with the preamble the OpenGL backend prepends at run time (the constants
 // from the C++ values, gpu::traversalConstants), and the variant switches as specialization
-// constants; and the cover of the rasterized entry with the same constants. Usage: cellrelief_write_vulkan_shaders <output folder>.
+// constants; and the cover of the rasterized entry with the same constants.
+// Usage: cellrelief_write_vulkan_shaders <output folder>.
 #include <cstdio>
 #include <fstream>
 #include <string>
