@@ -285,7 +285,7 @@ void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<
     }
     const double castD = median(castDevice), computeD = median(computeDevice), rasterD = median(rasterDevice);
     const double castW = median(castWall), computeW = median(computeWall), rasterW = median(rasterWall);
-    byDevice &= castD > 0 && rasterD > 0;
+    byDevice &= castD > 0 && computeD > 0 && rasterD > 0;
     const double cast = byDevice ? castD : castW, raster = byDevice ? rasterD : rasterW;
     const double compute = byDevice ? computeD : computeW;
     std::printf("%-13s %9zu %5d x %-5d | %9.2f ms %9.2f ms | %9.2f ms %6.2fx | %9.2f ms %9.2f ms | %6.2fx\n",

@@ -14,7 +14,7 @@ csv_path, png_path = arguments("plot_geotex_fig7.py geotex_fig7.csv geotex_fig7.
 rows = read_rows(csv_path)
 # The device's timer where the driver times both (llvmpipe's reads 0 for the ray caster), else the
 # wall clock (with read-back).
-by_device = all(r["raycast_device_s"] > 0 and r["raster_device_s"] > 0 for r in rows)
+by_device = all(r["raycast_device_s"] > 0 and r["compute_device_s"] > 0 and r["raster_device_s"] > 0 for r in rows)
 cast_key, compute_key, raster_key = (("raycast_device_s", "compute_device_s", "raster_device_s") if by_device
                                      else ("raycast_wall_s", "compute_wall_s", "raster_wall_s"))
 figure, axis = plt.subplots(figsize=(8.5, 6.5), constrained_layout=True)

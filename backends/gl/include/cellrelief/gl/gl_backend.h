@@ -9,7 +9,7 @@
 /// pixels only (early fragment tests). It
 /// measured 1.3x to 2.1x the compute pass over all pixels on llvmpipe (docs/backends.md), with the
 /// same frame; the compute pass (setRayEntry(RayEntry::Compute)) remains, and is used whenever the
-/// eye is inside a model's grid.
+/// eye is inside the scene's bounds (gpu::rasterizedEntryServes).
 ///
 /// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with
 /// only the projection types, maps and features present (gpu/shader_preamble.h); variants are

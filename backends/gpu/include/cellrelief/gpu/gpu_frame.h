@@ -39,8 +39,9 @@ class TraversalControls {
   void setGeneralShader(bool general) { mGeneral = general; }
   /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
   void setGather(bool gather) { mGather = gather; }
-  /// Rasterized grey cells and a fragment pass (the default), or a compute pass over all pixels.
-  /// The rasterized entry needs the eye outside the scene's grids; inside, it renders by compute.
+  /// Rasterized grey cells and chart boxes and a fragment pass (the default), or a compute pass
+  /// over all pixels. The rasterized entry needs the eye outside the scene's bounds; inside, it
+  /// renders by compute.
   void setRayEntry(RayEntry entry) { mEntry = entry; }
   /// How the last render reached its pixels.
   RayEntry lastRayEntry() const { return mLastEntry; }
