@@ -120,7 +120,10 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     mRendered = false;  // a render that fails leaves nothing to read back
     checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
-    const bool rasterized = mEntry == RayEntry::Rasterized && gpu::rasterizedEntryServes(mScene, camera);
+    // The cover's vertex shader reads two storage buffers, which OpenGL does not promise (the
+    // minimum is none): without them the compute pass renders the same frame.
+    const bool rasterized = mEntry == RayEntry::Rasterized && mVertexStorageBlocks >= 2 &&
+                            gpu::rasterizedEntryServes(mScene, camera);
     const GLuint program = programFor(variant, rasterized);
     if (rasterized) prepareRasterized(options);  // before the timer query: these may throw
     // The layout holds every channel the shader writes (the general one writes all of them);
@@ -191,6 +194,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &mStorageBindings);
+    glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &mVertexStorageBlocks);
     mLimits.maxTextureSize = size > 0 ? size : 2048;
     mLimits.maxArrayLayers = layers > 0 ? layers : 256;
     mLimits.maxStorageBytes = block > 0 ? std::size_t(block) : std::size_t(1) << 27;
@@ -440,6 +444,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   gpu::GpuScene mGpu;
   std::size_t mGpuBytes = 0;
   GLint mStorageBindings = 0;  ///< GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
+  GLint mVertexStorageBlocks = 0;  ///< GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS (the cover reads two)
   GLuint mBuffers[7] = {0, 0, 0, 0, 0, 0, 0};  ///< models, cells, hash, pyramid, polycube meshes, geometry textures, relief surfaces
   GLuint mTextures[5] = {0, 0, 0, 0, 0};  ///< distances, octahedral normals, RGBA normals, colors, polycube T2
   GLuint mFrameBuffer = 0, mParamsBuffer = 0, mTimer = 0;
