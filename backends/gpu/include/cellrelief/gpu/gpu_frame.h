@@ -228,6 +228,23 @@ inline CameraProjection cameraProjection(const render::Camera& camera, int width
   return p;
 }
 
+namespace detail {
+/// What every cover draw starts from: the camera's projection in `params`, and the world size of a
+/// pixel at the scene's farthest point (the unit of the covers' enlargement).
+struct CoverFrame {
+  CoverParams params{};
+  double pixelWS = 0;
+};
+inline CoverFrame coverFrame(const render::Scene& scene, const render::Camera& camera, const render::RenderOptions& o,
+                             ClipSpace clip) {
+  const CameraProjection projection = cameraProjection(camera, o.width, o.height, scene.boundsWS(), clip);
+  CoverFrame f;
+  std::copy_n(projection.viewProjection, 16, f.params.viewProjection);
+  f.pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
+  return f;
+}
+}  // namespace detail
+
 /// The cover of one model for the rasterized entry: the camera's projection (cameraProjection),
 /// and each cell's box enlarged by two pixels at the farthest point of the scene, so that no ray
 /// that grazes a grey cell is lost to the rasterizer's rounding. `dilationCells` overrides the
@@ -236,14 +253,12 @@ inline CoverParams coverParams(const render::Scene& scene, const GpuScene& gpuSc
                                const render::RenderOptions& o, std::size_t model,
                                std::optional<double> dilationCells = std::nullopt,
                                ClipSpace clip = ClipSpace::OpenGL) {
-  const CameraProjection projection = cameraProjection(camera, o.width, o.height, scene.boundsWS(), clip);
-  CoverParams p{};
-  std::copy_n(projection.viewProjection, 16, p.viewProjection);
+  const detail::CoverFrame frame = detail::coverFrame(scene, camera, o, clip);
+  CoverParams p = frame.params;
   const relief::ReliefModel& m = *scene.models[model];
   for (int c = 0; c < 3; ++c) p.originAndCellSize[c] = float(m.originWS[c]);
   p.originAndCellSize[3] = float(m.cellSizeWS);
-  const double pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
-  p.dilation[0] = float(dilationCells ? *dilationCells : std::max(1e-3, 2 * pixelWS / m.cellSizeWS));
+  p.dilation[0] = float(dilationCells ? *dilationCells : std::max(1e-3, 2 * frame.pixelWS / m.cellSizeWS));
   p.cellOffset[0] = gpuScene.models[model].cellOffset;
   return p;
 }
@@ -256,12 +271,10 @@ inline CoverParams chartCoverParams(const render::Scene& scene, const render::Ca
                                     const render::RenderOptions& o, std::size_t geotexModel,
                                     std::optional<double> dilationBoxes = std::nullopt,
                                     ClipSpace clip = ClipSpace::OpenGL) {
-  const CameraProjection projection = cameraProjection(camera, o.width, o.height, scene.boundsWS(), clip);
-  CoverParams p{};
-  std::copy_n(projection.viewProjection, 16, p.viewProjection);
-  const double pixelWS = 2 * camera.basis().tanHalf * std::max(projection.farthest, 0.0) / double(o.height);
+  const detail::CoverFrame frame = detail::coverFrame(scene, camera, o, clip);
+  CoverParams p = frame.params;
   const double floorWS = 1e-6 * scene.boundsWS().diagonal();  // a box seen edge-on still covers its pixels
-  p.dilation[1] = dilationBoxes ? 0.0f : float(std::max(floorWS, 2 * pixelWS));
+  p.dilation[1] = dilationBoxes ? 0.0f : float(std::max(floorWS, 2 * frame.pixelWS));
   p.dilation[2] = dilationBoxes ? float(*dilationBoxes) : 0.0f;
   p.cellOffset[0] = std::int32_t(geotexModel);
   p.cellOffset[1] = 1;
