@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <atomic>
-#include <charconv>
 #include <map>
 #include <memory>
 #include <thread>
@@ -140,22 +139,12 @@ int main(int argc, char** argv) {
   const std::string lpThreads = std::to_string(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
   setenv("LP_NUM_THREADS", lpThreads.c_str(), 0);
   const ThreadLimit limit{std::size_t(options.threads)};
-  int width = 0, height = 0;
-  {
-    // Each side must be the whole of its text: "12by3" is refused, not read as 12.
-    auto side = [](const std::string& text) {
-      int v = 0;
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-      return error == std::errc() && end == text.data() + text.size() ? v : 0;
-    };
-    const std::size_t x = sizeText.find('x');
-    width = side(sizeText.substr(0, x));
-    height = x == std::string::npos ? width : side(sizeText.substr(x + 1));
-    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-      std::fprintf(stderr, "bench_backends: --size '%s': expected N or WxH with sides from 1 to 16384\n", sizeText.c_str());
-      return 1;
-    }
+  const std::optional<std::pair<int, int>> frame = bench::parseFrameSize(sizeText);
+  if (!frame) {
+    std::fprintf(stderr, "bench_backends: --size '%s': expected N or WxH with sides from 1 to 16384\n", sizeText.c_str());
+    return 1;
   }
+  int width = frame->first, height = frame->second;
   if (options.quick) width = std::min(width, 128), height = std::min(height, 128);
   const int repeats = options.quick ? 1 : 3;
 

@@ -5,11 +5,13 @@
 #pragma once
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,34 @@ struct BenchOptions {
     app.add_option("--threads", threads, "Worker threads (0: all cores)");
   }
 };
+
+/// A frame size: "N" (N x N) or "WxH", each side from 1 to 16384 and the whole of its text ("12by3"
+/// is refused, not read as 12); nullopt otherwise.
+inline std::optional<std::pair<int, int>> parseFrameSize(const std::string& text) {
+  auto side = [](const std::string& t) {
+    int v = 0;
+    const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), v);
+    return error == std::errc() && end == t.data() + t.size() ? v : 0;
+  };
+  const std::size_t x = text.find('x');
+  const int width = side(text.substr(0, x));
+  const int height = x == std::string::npos ? width : side(text.substr(x + 1));
+  if (width < 1 || height < 1 || width > 16384 || height > 16384) return std::nullopt;
+  return std::pair{width, height};
+}
+
+/// Frame sizes separated by commas ("" gives none); nullopt if any one is not a frame size.
+inline std::optional<std::vector<std::pair<int, int>>> parseFrameSizes(const std::string& list) {
+  std::vector<std::pair<int, int>> sizes;
+  for (std::size_t begin = 0; begin < list.size();) {
+    const std::size_t comma = std::min(list.find(',', begin), list.size());
+    const std::optional<std::pair<int, int>> size = parseFrameSize(list.substr(begin, comma - begin));
+    if (!size) return std::nullopt;
+    sizes.push_back(*size);
+    begin = comma + 1;
+  }
+  return sizes;
+}
 
 /// Median wall time in seconds of `repeats` runs of `work`.
 inline double medianSeconds(int repeats, const std::function<void()>& work) {

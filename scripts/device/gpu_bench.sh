@@ -32,6 +32,8 @@ SIZE=${GPU_BENCH_SIZE:-1920x1080}
 EXPECT=${GPU_BENCH_EXPECT:-NVIDIA}  # what the GPU backends' device names must contain
 START=$SECONDS
 mkdir -p "$OUT" "$WORK/logs"
+# shellcheck source=device_env.sh
+source "$ROOT/scripts/device/device_env.sh"
 
 say() { printf '\n=== [%3ds] %s\n' "$((SECONDS - START))" "$*"; }
 
@@ -60,54 +62,21 @@ main() {
   grep -E '^(PRETTY_NAME|VERSION_ID)=' /etc/os-release 2>/dev/null
   ldd --version 2>&1 | head -1
   nproc
-  # The GL and Vulkan loaders (device tool README). GPU_BENCH_SKIP_LOADERS=1: a dry run elsewhere.
-  if [[ -z ${GPU_BENCH_SKIP_LOADERS:-} ]]; then
-    for f in .gl/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-  fi
+  # GPU_BENCH_SKIP_LOADERS=1: a dry run elsewhere.
+  DEVICE_SKIP_LOADERS=${GPU_BENCH_SKIP_LOADERS:-} device_loaders
   ldconfig -p | grep -E 'libvulkan\.so|libEGL\.so|libOpenGL\.so|libEGL_nvidia|libGLX_nvidia|libnvidia-glcore|libnvidia-eglcore' | sort
 
   say "nvidia-smi"
   timeout 20 nvidia-smi -L
   timeout 20 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm,clocks.mem,power.limit --format=csv
-  if command -v nvidia-smi >/dev/null; then
-    nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,utilization.gpu,memory.used,power.draw,temperature.gpu \
-      --format=csv -lms 500 >"$OUT/gpu_clocks.csv" 2>&1 </dev/null &
-    echo $! >"$WORK/sampler.pid"
-  fi
+  device_sample_clocks "$OUT/gpu_clocks.csv" timestamp,clocks.sm,clocks.mem,utilization.gpu,memory.used,power.draw,temperature.gpu
   echo "ICD and vendor files:"
   ls -l /usr/share/vulkan/icd.d /etc/vulkan/icd.d /usr/share/glvnd/egl_vendor.d /etc/glvnd/egl_vendor.d \
     /usr/local/nvidia/share/vulkan/icd.d /usr/local/nvidia/share/glvnd/egl_vendor.d 2>&1
 
   say "runtime"
-  rm -rf "$DEVRT" && mkdir -p "$DEVRT"
-  if command -v xz >/dev/null; then
-    tar -C "$DEVRT" -xJf .devrt/runtime.tar.xz
-  else  # no xz-utils on the image: Python's lzma
-    python3 -c 'import sys, tarfile
-t = tarfile.open(sys.argv[1])
-t.extractall(sys.argv[2], **({"filter": "tar"} if hasattr(tarfile, "tar_filter") else {}))' .devrt/runtime.tar.xz "$DEVRT"
-  fi || { echo "gpu_bench: cannot unpack .devrt/runtime.tar.xz"; return 1; }
-  head -5 "$DEVRT/MANIFEST.txt"
-  # lib/ always; of lib-sys/ (libstdc++, libgcc_s, zlib...) only what the image lacks, so the
-  # image's newer copies serve us and the NVIDIA driver alike; all of lib-sys/ if that fails.
-  mkdir -p "$DEVRT/lib-missing"
-  local f so
-  for f in "$DEVRT"/lib-sys/*; do
-    so=${f##*/}
-    if ! ldconfig -p | awk -v s="$so" '$1 == s && /x86-64/ {found = 1} END {exit !found}'; then
-      ln -sf "$f" "$DEVRT/lib-missing/$so"
-      echo "not on the image, taken from the bundle: $so"
-    fi
-  done
-  local base=${LD_LIBRARY_PATH:-}
-  export LD_LIBRARY_PATH=$DEVRT/lib:$DEVRT/lib-missing${base:+:$base}
-  if ! "$DEVRT/bin/cellrelief" --version || ! "$DEVRT/bin/bench_backends" --help >/dev/null; then
-    echo "gpu_bench: the programs do not load with the image's libstdc++ and friends; taking all of lib-sys/"
-    export LD_LIBRARY_PATH=$DEVRT/lib:$DEVRT/lib-sys${base:+:$base}
-    "$DEVRT/bin/cellrelief" --version || { ldd "$DEVRT/bin/cellrelief" | grep -v '=> /'; return 1; }
-  fi
-  echo "LD_LIBRARY_PATH=$LD_LIBRARY_PATH"
+  device_unpack_runtime "$DEVRT" cellrelief || return 1
+  "$DEVRT/bin/cellrelief" --version
   ldd "$DEVRT/bin/cellrelief" | grep -E 'not found|libstdc|libEGL|libOpenGL|libGLdispatch'
   ldd "$DEVRT/bin/bench_backends" | grep 'not found'
 
@@ -198,9 +167,4 @@ EOF
   ls -l "$OUT"
 }
 
-rm -f "$WORK/sampler.pid"
-main 2>&1 | tee "$OUT/gpu_bench.log"
-rc=${PIPESTATUS[0]}
-# The clock sampler this script started (its own process id only).
-[[ -s $WORK/sampler.pid ]] && kill "$(cat "$WORK/sampler.pid")" 2>/dev/null
-exit "$rc"
+device_run main "$OUT/gpu_bench.log"
