@@ -4,12 +4,14 @@
 /// mesh (Igea, armadillo, the 1M-triangle Igea; fertility with --quick) it converts at default
 /// settings and renders primary rays (depth and mask) and shaded frames with shadow rays on the
 /// CPU reference, on OpenGL and Vulkan (llvmpipe and lavapipe get LP_NUM_THREADS = the CPU
-/// backend's threads; each also with its general shader and its compute entry), and casts
+/// backend's threads; each also with its general shader and each entry), and casts
 /// the same primary and shadow rays with Embree on the original mesh. Prints Mrays/s, the ratio to
 /// the CPU reference, the agreement of every channel with it, and the scene bytes; writes
 /// backends.csv and the plot backends.png.
 ///
 ///   bench_backends [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 1024|WxH] [--device NAME]
+///                  [--skip opengl,vulkan]
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -133,7 +135,22 @@ int main(int argc, char** argv) {
   app.add_option("--size", sizeText, "Frame size: N (N x N pixels) or WxH, e.g. 1920x1080")->capture_default_str();
   backends::BackendSettings settings;
   app.add_option("--device", settings.vulkanDevice, backends::kDeviceHelp);
+  std::vector<std::string> skipped;
+  app.add_option("--skip", skipped,
+                 "GPU backends not to measure, e.g. opengl (the NVIDIA driver compiles its relief shader for minutes)")
+      ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
+  std::vector<render::BackendKind> skip;
+  try {
+    for (const std::string& name : skipped) {
+      skip.push_back(render::parseBackendKind(name));
+      if (skip.back() == render::BackendKind::Cpu || skip.back() == render::BackendKind::Auto)
+        throw Error(ErrorKind::InvalidArgument, "--skip " + name + ": the CPU reference is always measured");
+    }
+  } catch (const Error& e) {
+    std::fprintf(stderr, "bench_backends: %s\n", e.what());
+    return 1;
+  }
   // llvmpipe and lavapipe read their thread count when the first context or device is made: the
   // same as the CPU's.
   const std::string lpThreads = std::to_string(options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
@@ -184,6 +201,10 @@ int main(int argc, char** argv) {
     };
     std::vector<Row> rows;
     for (const auto& [kind, available] : backends::renderers()) {
+      if (std::find(skip.begin(), skip.end(), kind) != skip.end()) {
+        std::printf("%-8s skipped: --skip\n", std::string(render::backendName(kind)).c_str());
+        continue;
+      }
       if (!available) {
         std::printf("%-8s skipped: %s\n", std::string(render::backendName(kind)).c_str(), available.reason.c_str());
         continue;
@@ -192,9 +213,12 @@ int main(int argc, char** argv) {
       rows.push_back({std::string(render::backendName(kind)), backend->description(),
                       measureBackend(*backend, scene, camera, width, height, repeats, options.threads)});
       // What the scene's own shader variant saves (the same frames with the general shader), and
-      // the default entry (grey cells rasterized, the paper's way) against a compute pass over
-      // every pixel: the same rows on both GPU backends.
+      // the two entries (grey cells rasterized, the paper's way, and a compute pass over every
+      // pixel) of which the default takes the faster: the same rows on both GPU backends; the
+      // rasterized row only where the default did not take it.
       auto variantRows = [&](auto& gpu, const std::string& prefix) {
+        const bool defaultRasterized = gpu.lastRayEntry() == gpu::RayEntry::Rasterized;
+        rows.back().device += defaultRasterized ? ", rasterized entry" : ", compute entry";
         gpu.setGeneralShader(true);
         rows.push_back({prefix + "-general", "the one shader with every projection, map and feature",
                         measureBackend(gpu, scene, camera, width, height, repeats, options.threads)});
@@ -202,6 +226,12 @@ int main(int argc, char** argv) {
         gpu.setRayEntry(gpu::RayEntry::Compute);
         rows.push_back({prefix + "-compute", "the traversal as a compute pass over every pixel",
                         measureBackend(gpu, scene, camera, width, height, repeats, options.threads)});
+        if (!defaultRasterized) {
+          gpu.setRayEntry(gpu::RayEntry::Rasterized);
+          rows.push_back({prefix + "-rasterized", "the grey cells rasterized, a fragment pass on the covered pixels",
+                          measureBackend(gpu, scene, camera, width, height, repeats, options.threads)});
+        }
+        gpu.setRayEntry(gpu::RayEntry::Fastest);
       };
 #ifdef CELLRELIEF_HAS_OPENGL
       if (auto* gl = dynamic_cast<gl::GlBackend*>(backend.get())) variantRows(*gl, "opengl");

@@ -274,6 +274,7 @@ void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<
 #ifdef CELLRELIEF_HAS_VULKAN
   try {
     auto vulkan = std::make_unique<vulkan::VulkanBackend>();
+    vulkan->setRayEntry(gpu::RayEntry::Rasterized);
     vulkanControls = vulkan.get();
     vulkanCaster = std::move(vulkan);
     if (sayDevices) std::printf("%s\n", vulkanCaster->description().c_str());

@@ -6,12 +6,15 @@
 #             by OpenGL and Vulkan against the mesh rasterized by OpenGL, up to 4096 x 3072, on
 #             bunny, armadillo, fertility_9k, Igea and the Igea after one Loop step
 #   polycube  bench_polycube_render: PolyCube-Maps texturing's frame cost per backend (issue 15)
-# Pack first, here:
-#   PROGRAMS="bench_geotex bench_polycube_render" DATA_FILES="$(scripts/device/figures.sh --data-files)" \
-#     scripts/device/collect_runtime.sh
+#   backends  bench_backends without OpenGL (whose relief shader the NVIDIA driver compiles for
+#             minutes, docs/backends.md): the relief models on the CPU and Vulkan, each entry
+# FIGURES_STEPS chooses (default: all three, in that order). Pack first, here:
+#   PROGRAMS="bench_geotex bench_polycube_render bench_backends" \
+#     DATA_FILES="$(scripts/device/figures.sh --data-files)" scripts/device/collect_runtime.sh
 #   run tool: command "bash scripts/device/figures.sh", carry [".gl", ".devrt"], timeout_s 480
 # FIGURES_SIZES overrides Fig. 7's sizes; DEVICE_SKIP_LOADERS=1 and FIGURES_DEVRT make a dry run here.
-# Files in $OUT: figures.log, geotex_fig7.csv, geotex_fig7.png, polycube_render.csv, gpu_clocks.csv.
+# Files in $OUT: figures.log, geotex_fig7.csv, geotex_fig7.png, polycube_render.csv, backends.csv,
+# gpu_clocks.csv.
 set -uo pipefail
 
 if [[ ${1:-} == --data-files ]]; then
@@ -27,6 +30,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 OUT=${OUT:-$ROOT/out/figures}
 WORK=${FIGURES_WORK:-/tmp/figures}
 DEVRT=${FIGURES_DEVRT:-/tmp/devrt}
+STEPS=${FIGURES_STEPS:-geotex polycube backends}
 SIZES=${FIGURES_SIZES:-80x60,160x120,320x240,640x480,800x600,1024x768,1600x1200,2048x1536,3200x2400,4096x3072}
 START=$SECONDS
 mkdir -p "$OUT" "$WORK"
@@ -47,17 +51,30 @@ main() {
   local threads
   threads=$(nproc)
 
-  say "geotex: Fig. 7 at $SIZES"
-  timeout -k 5 "${FIGURES_GEOTEX_S:-270}" "$DEVRT/bin/bench_geotex" --figure7-only --figure7-loop \
-    --figure7-sizes "$SIZES" --threads "$threads" --data "$DEVRT/data" --out "$WORK/geotex"
-  echo "--- geotex: exit $?"
-  cp "$WORK/geotex/geotex_fig7.csv" "$WORK/geotex/geotex_fig7.png" "$OUT/" 2>/dev/null
-
-  say "polycube: texturing's frame cost"
-  timeout -k 5 "${FIGURES_POLYCUBE_S:-150}" "$DEVRT/bin/bench_polycube_render" --threads "$threads" \
-    --data "$DEVRT/data" --out "$WORK/polycube"
-  echo "--- polycube: exit $?"
-  cp "$WORK/polycube/polycube_render.csv" "$OUT/" 2>/dev/null
+  local step
+  for step in $STEPS; do
+    case $step in
+      geotex)
+        say "geotex: Fig. 7 at $SIZES"
+        timeout -k 5 "${FIGURES_GEOTEX_S:-270}" "$DEVRT/bin/bench_geotex" --figure7-only --figure7-loop \
+          --figure7-sizes "$SIZES" --threads "$threads" --data "$DEVRT/data" --out "$WORK/geotex"
+        echo "--- geotex: exit $?"
+        cp "$WORK/geotex/geotex_fig7.csv" "$WORK/geotex/geotex_fig7.png" "$OUT/" 2>/dev/null ;;
+      polycube)
+        say "polycube: texturing's frame cost"
+        timeout -k 5 "${FIGURES_POLYCUBE_S:-150}" "$DEVRT/bin/bench_polycube_render" --threads "$threads" \
+          --data "$DEVRT/data" --out "$WORK/polycube"
+        echo "--- polycube: exit $?"
+        cp "$WORK/polycube/polycube_render.csv" "$OUT/" 2>/dev/null ;;
+      backends)
+        say "backends: relief models on the CPU and Vulkan at 1920x1080"
+        timeout -k 5 "${FIGURES_BACKENDS_S:-240}" "$DEVRT/bin/bench_backends" --skip opengl --size 1920x1080 \
+          --threads "$threads" --data "$DEVRT/data" --out "$WORK/backends"
+        echo "--- backends: exit $?"
+        cp "$WORK/backends/backends.csv" "$OUT/" 2>/dev/null ;;
+      *) echo "figures: unknown step '$step' (geotex, polycube, backends)"; return 2 ;;
+    esac
+  done
 
   say "done; files in $OUT:"
   ls -l "$OUT"

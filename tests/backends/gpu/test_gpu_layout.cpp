@@ -2,7 +2,8 @@
 // The GPU layout (gpu/gpu_layout.h) without a GPU: the hash lookup finds every grey cell and
 // nothing else, the atlas holds every sample of every layer where the shader reads it, a model
 // with more face layers than a device has array layers still fits, and a scene beyond the
-// limits is refused with an error that names the model and the limit.
+// limits is refused with an error that names the model and the limit; RayEntry::Fastest keeps the
+// entry the device's clock finds faster.
 #include <cctype>
 #include <gtest/gtest.h>
 
@@ -166,6 +167,61 @@ TEST(ShaderPreamble, VulkanSpecializationIdsFollowTheSwitchTable) {
   };
   for (const char* name : kVariantSwitchNames) EXPECT_TRUE(usesToken(name)) << name;
   EXPECT_EQ(body.find("#ifdef CR_OUT"), std::string::npos) << "variant switches are constants, not macros";
+}
+
+// The choice of RayEntry::Fastest, driven by device times as a backend reports them: each entry
+// tried once per variant and size, the faster kept; no trials where the device has no clock or
+// the rasterized entry cannot serve; explicit entries obeyed.
+class EntryChooser : public TraversalControls {
+ public:
+  bool frame(const ShaderVariant& v, int width, int height, double rasterizedSeconds, double computeSeconds,
+             bool possible = true, bool timed = true) {
+    render::RenderOptions o;
+    o.width = width;
+    o.height = height;
+    const bool rasterized = takeRasterized(v, o, possible, timed);
+    entryTimed(rasterized, rasterized ? rasterizedSeconds : computeSeconds);
+    return rasterized;
+  }
+};
+
+TEST(RayEntryChoice, FastestTriesEachEntryOncePerVariantAndSizeAndKeepsTheFaster) {
+  EntryChooser c;
+  ASSERT_EQ(c.rayEntry(), RayEntry::Fastest);  // the default
+  const ShaderVariant primary = ShaderVariant::general(), shaded = [] {
+    ShaderVariant v = ShaderVariant::general();
+    v.shadows = false;
+    return v;
+  }();
+  // Fragment pass 19x slower (an H100): rasterized trial, compute trial, then compute for good.
+  EXPECT_TRUE(c.frame(primary, 640, 480, 0.019, 0.001));
+  EXPECT_FALSE(c.frame(primary, 640, 480, 0.019, 0.001));
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(c.frame(primary, 640, 480, 0.019, 0.001));
+  // Another size and another variant are judged anew: here the fragment pass wins.
+  EXPECT_TRUE(c.frame(primary, 80, 60, 0.0005, 0.0008));
+  EXPECT_FALSE(c.frame(primary, 80, 60, 0.0005, 0.0008));
+  EXPECT_TRUE(c.frame(primary, 80, 60, 0.0005, 0.0008));
+  EXPECT_TRUE(c.frame(shaded, 640, 480, 0.002, 0.003));
+  EXPECT_FALSE(c.frame(shaded, 640, 480, 0.002, 0.003));
+  EXPECT_TRUE(c.frame(shaded, 640, 480, 0.002, 0.003));
+  EXPECT_FALSE(c.frame(primary, 640, 480, 0.019, 0.001));  // the first verdict stands
+}
+
+TEST(RayEntryChoice, FastestRasterizesWithoutAClockAndNeverWhereRasterizingCannotServe) {
+  EntryChooser c;
+  const ShaderVariant v = ShaderVariant::general();
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(c.frame(v, 64, 64, 0.01, 0.001, true, false));  // llvmpipe
+  EXPECT_FALSE(c.frame(v, 64, 64, 0.001, 0.01, false, true));                              // eye inside
+  // A trial that reads no time (0) is tried again rather than judged.
+  EXPECT_TRUE(c.frame(v, 32, 32, 0.0, 0.001));
+  EXPECT_TRUE(c.frame(v, 32, 32, 0.002, 0.001));
+  EXPECT_FALSE(c.frame(v, 32, 32, 0.002, 0.001));
+  EXPECT_FALSE(c.frame(v, 32, 32, 0.002, 0.001));
+  c.setRayEntry(RayEntry::Rasterized);
+  EXPECT_TRUE(c.frame(v, 32, 32, 0.002, 0.001));
+  EXPECT_FALSE(c.frame(v, 32, 32, 0.002, 0.001, false));
+  c.setRayEntry(RayEntry::Compute);
+  EXPECT_FALSE(c.frame(v, 64, 64, 0.0001, 0.01));
 }
 
 }  // namespace

@@ -4,12 +4,13 @@
 /// lookup in storage buffers, maps in integer array-texture atlases) and the one GLSL traversal
 /// (backends/shaders/relief_trace.comp), on a headless EGL context (egl_context.h).
 ///
-/// By default the traversal runs the paper's way: the grey cells (and geometry textures' chart
-/// boxes) are rasterized into a stencil and the traversal runs as a fragment pass on the covered
-/// pixels only (early fragment tests). It
-/// measured 1.3x to 2.1x the compute pass over all pixels on llvmpipe (docs/backends.md), with the
-/// same frame; the compute pass (setRayEntry(RayEntry::Compute)) remains, and is used whenever the
-/// eye is inside the scene's bounds (gpu::rasterizedEntryServes).
+/// The traversal runs the paper's way, the grey cells (and geometry textures' chart boxes)
+/// rasterized into a stencil and the traversal as a fragment pass on the covered pixels only
+/// (early fragment tests), or as a compute pass over all pixels, with the same frame. The default
+/// (RayEntry::Fastest) takes the fragment pass on llvmpipe, where it measured 1.3x to 2.1x the
+/// compute pass (docs/backends.md), and on a GPU whichever its clock finds faster (on an H100 the
+/// compute pass, 5x to 19x). The compute pass is also used whenever the eye is inside the scene's
+/// bounds (gpu::rasterizedEntryServes).
 ///
 /// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with
 /// only the projection types, maps and features present (gpu/shader_preamble.h); variants are
@@ -121,9 +122,12 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
     // The cover's vertex shader reads two storage buffers, which OpenGL does not promise (the
-    // minimum is none): without them the compute pass renders the same frame.
-    const bool rasterized = mEntry == RayEntry::Rasterized && mVertexStorageBlocks >= 2 &&
-                            gpu::rasterizedEntryServes(mScene, camera);
+    // minimum is none): without them the compute pass renders the same frame, as it does for a
+    // frame larger than a renderbuffer.
+    const bool rasterized = takeRasterized(variant, options,
+                                           mVertexStorageBlocks >= 2 && rasterFits(options) &&
+                                               gpu::rasterizedEntryServes(mScene, camera),
+                                           !mContext->isSoftware());
     const GLuint program = programFor(variant, rasterized);
     if (rasterized) prepareRasterized(options);  // before the timer query: these may throw
     // The layout holds every channel the shader writes (the general one writes all of them);
@@ -174,6 +178,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     }
     // llvmpipe's timer queries do not see compute dispatches (they read about 0): no device clock.
     mGpuSeconds = mContext->isSoftware() ? 0.0 : double(nanoseconds) * 1e-9;
+    entryTimed(mLastEntry == RayEntry::Rasterized, mGpuSeconds);
     gpu::unpackFrame(words.data(), mLayout, frame);
   }
 
@@ -344,19 +349,23 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     if (!mCoverBuffer) glCreateBuffers(1, &mCoverBuffer), glNamedBufferStorage(mCoverBuffer, sizeof(CoverParams), nullptr, GL_DYNAMIC_STORAGE_BIT);
   }
 
-  /// A frame the device cannot dispatch or rasterize in one piece is refused by its size.
+  /// A frame the device cannot dispatch in one piece is refused by its size.
   void checkFrameSize(const render::RenderOptions& o) const {
-    GLint groupsX = 0, groupsY = 0, renderbuffer = 0;
+    GLint groupsX = 0, groupsY = 0;
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groupsX);
     glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &groupsY);
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
-    const bool computeFits = (o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth <= groupsX &&
-                             (o.height + gpu::kGroupHeight - 1) / gpu::kGroupHeight <= groupsY;
-    const bool rasterFits = mEntry != RayEntry::Rasterized || (o.width <= renderbuffer && o.height <= renderbuffer);
-    if (!computeFits || !rasterFits)
+    if ((o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth > groupsX ||
+        (o.height + gpu::kGroupHeight - 1) / gpu::kGroupHeight > groupsY)
       throw Error(ErrorKind::ResourceLimit, "OpenGL backend: a " + std::to_string(o.width) + "x" +
                                                 std::to_string(o.height) + " frame is beyond what " +
                                                 mContext->renderer() + " renders in one pass");
+  }
+
+  /// Whether the stencil of the rasterized entry can be as large as the frame.
+  static bool rasterFits(const render::RenderOptions& o) {
+    GLint renderbuffer = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+    return o.width <= renderbuffer && o.height <= renderbuffer;
   }
 
   /// The paper's way: grey cells and chart boxes into the stencil, then the traversal on the

@@ -25,10 +25,23 @@
 
 namespace cellrelief::gpu {
 
-/// How the traversal reaches the pixels: the paper's way (the default), the grey cells rasterized
-/// into the stencil and the traversal run in a fragment pass on the covered pixels only, or a
-/// compute pass over all of them (docs/backends.md compares them). Both give the same frame.
-enum class RayEntry { Compute, Rasterized };
+/// How the traversal reaches the pixels: the paper's way, the grey cells and chart boxes rasterized
+/// into the stencil and the traversal run in a fragment pass on the covered pixels only; a compute
+/// pass over all of them; or the faster of the two on this device (the default). Both give the same
+/// frame (docs/backends.md compares them).
+///
+/// Why a measured default: which is faster depends on the device, not only on the scene. On
+/// llvmpipe and lavapipe the fragment pass runs 1.2x to 1.8x the compute pass (bench_backends); on
+/// an NVIDIA H100, whose graphics pipeline runs on 2 of its 66 TPCs, the compute pass ran 5x to 19x
+/// the fragment pass (bench_geotex's Fig. 7, docs/geotex.md), and a gaming GPU runs both on every SM.
+enum class RayEntry {
+  Compute,
+  Rasterized,
+  /// Each of the two timed once on the device's clock per shader variant and frame size, the faster
+  /// kept; Rasterized on a CPU device (llvmpipe, lavapipe: measured faster there, and no trials
+  /// make their frames depend on timing) or where the device has no clock.
+  Fastest
+};
 
 /// The switches both GPU backends offer (to measure what each choice costs, and for tests), and
 /// the shader variant they select for a scene and options.
@@ -39,10 +52,10 @@ class TraversalControls {
   void setGeneralShader(bool general) { mGeneral = general; }
   /// Read the 2 x 2 samples with one textureGather instead of four texel fetches.
   void setGather(bool gather) { mGather = gather; }
-  /// Rasterized grey cells and chart boxes and a fragment pass (the default), or a compute pass
-  /// over all pixels. The rasterized entry needs the eye outside the scene's bounds; inside, it
-  /// renders by compute.
+  /// The entry of the next frames (RayEntry). The rasterized entry needs the eye outside the
+  /// scene's bounds; inside, it renders by compute.
   void setRayEntry(RayEntry entry) { mEntry = entry; }
+  RayEntry rayEntry() const { return mEntry; }
   /// How the last render reached its pixels.
   RayEntry lastRayEntry() const { return mLastEntry; }
   /// Overrides the enlargement of the rasterized cells' boxes (cell units; negative shrinks them)
@@ -60,9 +73,44 @@ class TraversalControls {
     return v;
   }
 
+  /// Whether this frame takes the rasterized entry. `possible`: the scene, the view and the device
+  /// allow it; `timed`: the device is a GPU with a clock (RayEntry::Fastest). A Fastest frame
+  /// without a verdict yet is a trial, which entryTimed() scores.
+  bool takeRasterized(const ShaderVariant& variant, const render::RenderOptions& options, bool possible, bool timed) {
+    mTrial.reset();
+    if (!possible) return false;
+    if (mEntry != RayEntry::Fastest) return mEntry == RayEntry::Rasterized;
+    if (!timed) return true;
+    auto it = std::find_if(mEntryTimes.begin(), mEntryTimes.end(), [&](const EntryTimes& e) {
+      return e.variant == variant && e.width == options.width && e.height == options.height;
+    });
+    if (it == mEntryTimes.end())
+      it = mEntryTimes.insert(mEntryTimes.end(), EntryTimes{variant, options.width, options.height});
+    if (it->rasterized > 0 && it->compute > 0) return it->rasterized <= it->compute;
+    mTrial = std::size_t(it - mEntryTimes.begin());
+    return !(it->rasterized > 0);  // rasterized first, then compute
+  }
+
+  /// The device time of the frame takeRasterized() last chose (read back); scores a trial.
+  void entryTimed(bool rasterized, double seconds) {
+    if (!mTrial || !(seconds > 0)) return;
+    EntryTimes& e = mEntryTimes[*mTrial];
+    (rasterized ? e.rasterized : e.compute) = seconds;
+    mTrial.reset();
+  }
+
   bool mGeneral = false, mGather = true;
-  RayEntry mEntry = RayEntry::Rasterized, mLastEntry = RayEntry::Compute;
+  RayEntry mEntry = RayEntry::Fastest, mLastEntry = RayEntry::Compute;
   std::optional<double> mCoverDilation;
+
+ private:
+  struct EntryTimes {
+    ShaderVariant variant;
+    int width = 0, height = 0;
+    double rasterized = 0, compute = 0;  ///< device seconds of the trial frame; 0: not yet timed
+  };
+  std::vector<EntryTimes> mEntryTimes;
+  std::optional<std::size_t> mTrial;
 };
 
 /// The std140 uniform block `Params` of relief_trace.comp.

@@ -7,11 +7,12 @@
 /// set of specialization constants, so the driver removes what the scene lacks when it builds
 /// the pipeline; pipelines are cached per variant.
 ///
-/// As in OpenGL, the traversal reaches the pixels the paper's way by default: the grey cells and
-/// chart boxes are drawn into a stencil and the traversal runs as a fragment pass on the covered
-/// pixels only (RayEntry::Rasterized, with dynamic rendering); or as a compute pass over every
-/// pixel, which is also what runs when the eye is inside the scene's bounds or the device cannot
-/// draw.
+/// As in OpenGL, the traversal reaches the pixels the paper's way, the grey cells and chart boxes
+/// drawn into a stencil and the traversal run as a fragment pass on the covered pixels only
+/// (RayEntry::Rasterized, with dynamic rendering), or as a compute pass over every pixel, which is
+/// also what runs when the eye is inside the scene's bounds or the device cannot draw. The default
+/// (RayEntry::Fastest) takes the fragment pass on lavapipe and on a GPU whichever its timestamps
+/// find faster.
 ///
 /// Uploads go through a staging buffer into device-local memory; the frame is written to a
 /// storage buffer read back through host-visible memory (where the device's memory is the host's
@@ -78,10 +79,12 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     if (options.width < 1 || options.height < 1) throw Error(ErrorKind::InvalidArgument, "Vulkan backend: empty frame size");
     waitForFrame();
     mRendered = false;  // a render that fails leaves nothing to read back
-    const bool rasterized =
-        mEntry == RayEntry::Rasterized && mContext->canRasterize() && gpu::rasterizedEntryServes(mScene, camera);
-    checkFrameSize(options, rasterized);
+    checkFrameSize(options);
     const gpu::ShaderVariant variant = variantFor(options);
+    // A frame larger than a framebuffer renders by compute, the same frame.
+    const bool rasterized = takeRasterized(
+        variant, options, mContext->canRasterize() && drawFits(options) && gpu::rasterizedEntryServes(mScene, camera),
+        !mContext->isSoftware() && mContext->timestampBits() > 0);
     guard([&] {
       const VkPipeline pipeline = pipelineFor(variant, rasterized);
       const gpu::FrameLayout layout = gpu::frameLayout(options, variant.channels, mLimits.maxStorageBytes);
@@ -107,6 +110,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
       mContext->invalidate(source);
       gpu::unpackFrame(static_cast<const std::uint32_t*>(source.mapped), mLayout, frame);
       mGpuSeconds = frameSeconds();
+      entryTimed(mLastEntry == RayEntry::Rasterized, mGpuSeconds);
     });
   }
 
@@ -494,15 +498,19 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
   // ---- a frame ------------------------------------------------------------------------------------
 
   /// A frame the device cannot dispatch or draw in one piece is refused by its size.
-  void checkFrameSize(const render::RenderOptions& o, bool rasterized) const {
+  void checkFrameSize(const render::RenderOptions& o) const {
     const VkPhysicalDeviceLimits& l = mContext->limits();
-    const bool computeFits = std::uint32_t((o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth) <= l.maxComputeWorkGroupCount[0] &&
-                             std::uint32_t((o.height + gpu::kGroupHeight - 1) / gpu::kGroupHeight) <= l.maxComputeWorkGroupCount[1];
-    const bool drawFits = !rasterized || (std::uint32_t(o.width) <= std::min(l.maxFramebufferWidth, l.maxImageDimension2D) &&
-                                          std::uint32_t(o.height) <= std::min(l.maxFramebufferHeight, l.maxImageDimension2D));
-    if (!computeFits || !drawFits)
+    if (std::uint32_t((o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth) > l.maxComputeWorkGroupCount[0] ||
+        std::uint32_t((o.height + gpu::kGroupHeight - 1) / gpu::kGroupHeight) > l.maxComputeWorkGroupCount[1])
       throw Error(ErrorKind::ResourceLimit, "Vulkan backend: a " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                                                 " frame is beyond what " + mContext->name() + " renders in one pass");
+  }
+
+  /// Whether the stencil of the rasterized entry can be as large as the frame.
+  bool drawFits(const render::RenderOptions& o) const {
+    const VkPhysicalDeviceLimits& l = mContext->limits();
+    return std::uint32_t(o.width) <= std::min(l.maxFramebufferWidth, l.maxImageDimension2D) &&
+           std::uint32_t(o.height) <= std::min(l.maxFramebufferHeight, l.maxImageDimension2D);
   }
 
   /// The frame's storage buffer, grown when a frame needs more; on unified memory the host
