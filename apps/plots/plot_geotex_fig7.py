@@ -16,13 +16,13 @@ rows = read_rows(csv_path)
 # The device's timer where the driver times both (llvmpipe's reads 0 for the ray caster), else the
 # wall clock (with read-back).
 # Vulkan's column is 0 where the build or the machine has no Vulkan.
-has_vulkan = all(r["vulkan_raycast_wall_s"] > 0 for r in rows)
+has_vulkan = all(r.get("vulkan_raycast_wall_s", 0) > 0 for r in rows)
 by_device = all(r["raycast_device_s"] > 0 and r["compute_device_s"] > 0 and r["raster_device_s"] > 0 and
                 (not has_vulkan or r["vulkan_raycast_device_s"] > 0) for r in rows)
 cast_key, compute_key, vulkan_key, raster_key = (
     ("raycast_device_s", "compute_device_s", "vulkan_raycast_device_s", "raster_device_s") if by_device
     else ("raycast_wall_s", "compute_wall_s", "vulkan_raycast_wall_s", "raster_wall_s"))
-figure, axis = plt.subplots(figsize=(8.5, 6.5), constrained_layout=True)
+figure, axis = plt.subplots(figsize=(10, 7), constrained_layout=True)
 for i, ((mesh,), curve) in enumerate(groups(rows, "mesh")):
     colour, marker = style(i)
     pixels = [r["width"] * r["height"] for r in curve]
