@@ -3,7 +3,7 @@
 /// Geometry textures against their peers, measured in one run:
 ///  1. VSA: ours (geotex::partitionVsa, seeded hierarchically and by farthest points) against
 ///     CGAL's Surface_mesh_approximation at equal proxy counts and iterations, all partitions scored
-///     by the same L2,1 error.
+///     by the same L2,1 error; and ours run until CGAL's error: the time at equal error.
 ///  2. The representation: conversion time, bytes, surface error (two-sided RMS and Hausdorff of
 ///     the reconstructions against the mesh) and accuracy against Embree on the mesh (depth error
 ///     and hit/miss disagreement over primary rays), beside the cell complex (relief) at
@@ -59,32 +59,54 @@ constexpr MeshEntry kMeshes[] = {{"bunny", "meshes/medium/stanford-bunny__common
                                  {"fertility_9k", "meshes/small/fertility_9k__libigl-tutorial-data.off"},
                                  {"igea", "meshes/large/igea__common-3d-test-models.ply"}};
 
-/// Ours with each seeding (hierarchical, as CGAL's; farthest-point, cheaper) against CGAL's.
+/// Ours with each seeding (hierarchical, as CGAL's; farthest-point, cheaper) against CGAL's: at
+/// equal iterations, and run until CGAL's error is reached (at most `kIterationsToTarget`
+/// iterations): the time at equal error, the goal's measure.
+constexpr int kIterationsToTarget = 100;
 void compareVsa(const std::string& name, const TriangleMesh& mesh, int proxies, int iterations, CsvWriter& csv) {
   const double area = surfaceArea(mesh);
+  const cgal::CgalVsa theirs = cgal::cgalVsa(mesh, proxies, iterations);
+  const double theirError = geotex::partitionError(mesh, theirs.regionOfFace, geotex::VsaMetric::L21) / area;
   struct Run {
     double seconds = 0, l21 = 0;
+    bool reached = false;
   };
-  const auto ours = [&](geotex::VsaSeeding seeding) {
+  const auto ours = [&](geotex::VsaSeeding seeding, bool toTheirError) {
     geotex::VsaOptions o;
     o.proxies = proxies;
-    o.maxIterations = iterations;
+    o.maxIterations = toTheirError ? kIterationsToTarget : iterations;
     o.seeding = seeding;
+    if (toTheirError) {
+      o.tolerance = 0;
+      o.targetError = theirError * area;
+    }
     geotex::VsaPartition partition;
     Run r;
     r.seconds = medianSeconds(1, [&] { partition = geotex::partitionVsa(mesh, o); });
     r.l21 = geotex::partitionError(mesh, partition.regionOfFace, geotex::VsaMetric::L21) / area;
+    r.reached = r.l21 <= theirError;
     return r;
   };
-  const Run hierarchical = ours(geotex::VsaSeeding::Hierarchical), farthest = ours(geotex::VsaSeeding::FarthestPoint);
-  const cgal::CgalVsa theirs = cgal::cgalVsa(mesh, proxies, iterations);
-  const double theirError = geotex::partitionError(mesh, theirs.regionOfFace, geotex::VsaMetric::L21) / area;
-  std::printf("%-13s %8zu %5d | %7.3f %9.3e %5.2fx %6.3f | %7.3f %9.3e %5.2fx %6.3f | %7.3f %9.3e\n", name.c_str(),
-              mesh.triangleCount(), proxies, hierarchical.seconds, hierarchical.l21, theirs.seconds / hierarchical.seconds,
-              hierarchical.l21 / theirError, farthest.seconds, farthest.l21, theirs.seconds / farthest.seconds,
-              farthest.l21 / theirError, theirs.seconds, theirError);
+  const Run hierarchical = ours(geotex::VsaSeeding::Hierarchical, false);
+  const Run farthest = ours(geotex::VsaSeeding::FarthestPoint, false);
+  const Run hierarchicalToTheirs = ours(geotex::VsaSeeding::Hierarchical, true);
+  const Run farthestToTheirs = ours(geotex::VsaSeeding::FarthestPoint, true);
+  const auto toTheirs = [&](const Run& r) {
+    char text[48];
+    if (r.reached)
+      std::snprintf(text, sizeof text, "%7.3f s %5.2fx", r.seconds, theirs.seconds / r.seconds);
+    else
+      std::snprintf(text, sizeof text, "not reached (%.3f)", r.l21 / theirError);
+    return std::string(text);
+  };
+  std::printf("%-13s %8zu %5d | %7.3f %9.3e %5.2fx %6.3f | %7.3f %9.3e %5.2fx %6.3f | %7.3f %9.3e | %-19s %-19s\n",
+              name.c_str(), mesh.triangleCount(), proxies, hierarchical.seconds, hierarchical.l21,
+              theirs.seconds / hierarchical.seconds, hierarchical.l21 / theirError, farthest.seconds, farthest.l21,
+              theirs.seconds / farthest.seconds, farthest.l21 / theirError, theirs.seconds, theirError,
+              toTheirs(hierarchicalToTheirs).c_str(), toTheirs(farthestToTheirs).c_str());
   csv.row(name, mesh.triangleCount(), proxies, iterations, hierarchical.seconds, hierarchical.l21, farthest.seconds,
-          farthest.l21, theirs.proxies, theirs.seconds, theirError);
+          farthest.l21, theirs.proxies, theirs.seconds, theirError, hierarchicalToTheirs.seconds, hierarchicalToTheirs.l21,
+          farthestToTheirs.seconds, farthestToTheirs.l21);
 }
 
 struct Accuracy {
@@ -370,13 +392,20 @@ int main(int argc, char** argv) {
   o.addTo(app);
   bool figure7Only = false, figure7Loop = false;
   std::string figure7Sizes;
+  std::vector<std::string> sections{"vsa", "representations", "tables", "figure7"};
+  app.add_option("--sections", sections, "The sections to run: vsa, representations, tables, figure7")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"vsa", "representations", "tables", "figure7"}))
+      ->capture_default_str();
   app.add_flag("--figure7-only", figure7Only,
-               "Only the paper's Fig. 7 (charts at 200 proxies, maps up to 128 texels; no CGAL, Embree or cell "
-               "complex): the run for a GPU machine");
+               "Only the paper's Fig. 7, as --sections figure7 (charts at 200 proxies, maps up to 128 texels; no "
+               "CGAL, Embree or cell complex): the run for a GPU machine");
   app.add_option("--figure7-sizes", figure7Sizes, "Fig. 7's image sizes, e.g. 320x240,1600x1200,4096x3072");
   app.add_flag("--figure7-loop", figure7Loop,
                "Fig. 7 also on the Igea after one Loop subdivision step (1.07M triangles, charts converted from it)");
   CLI11_PARSE(app, argc, argv);
+  if (figure7Only) sections = {"figure7"};
+  const auto section = [&](const char* name) { return std::find(sections.begin(), sections.end(), name) != sections.end(); };
   std::vector<std::pair<int, int>> sizes;
   if (const auto parsed = bench::parseFrameSizes(figure7Sizes)) {
     sizes = *parsed;
@@ -395,15 +424,20 @@ int main(int argc, char** argv) {
   const auto wanted = [&](const bench::MeshEntry& m) { return !o.quick || std::string(m.name) == "fertility_9k"; };
   std::vector<std::filesystem::path> written;
 
-  if (!figure7Only) {
+  if (section("vsa")) {
     bench::CsvWriter vsaCsv(out / "geotex_vsa.csv",
                             "mesh,triangles,proxies,iterations,ours_seconds,ours_l21_per_area,ours_farthest_seconds,"
-                            "ours_farthest_l21_per_area,cgal_proxies,cgal_seconds,cgal_l21_per_area");
+                            "ours_farthest_l21_per_area,cgal_proxies,cgal_seconds,cgal_l21_per_area,"
+                            "ours_to_cgal_seconds,ours_to_cgal_l21_per_area,ours_farthest_to_cgal_seconds,"
+                            "ours_farthest_to_cgal_l21_per_area");
     std::printf("VSA, L2,1 error per unit area (all partitions scored alike), at most 20 iterations after seeding; "
                 "ours seeded hierarchically (as CGAL) and by farthest points, each with its speed-up over CGAL and its "
-                "error over CGAL's\n");
-    std::printf("%-13s %8s %5s | %-31s | %-31s | %s\n", "mesh", "faces", "K", "ours, hierarchical: s L21 x err",
-                "ours, farthest-point: s L21 x err", "CGAL: s L21");
+                "error over CGAL's; then ours run until CGAL's error (at most %d iterations): time and speed-up at "
+                "equal error, or the error ratio where not reached\n",
+                bench::kIterationsToTarget);
+    std::printf("%-13s %8s %5s | %-31s | %-31s | %-17s | %-19s %-19s\n", "mesh", "faces", "K",
+                "ours, hierarchical: s L21 x err", "ours, farthest-point: s L21 x err", "CGAL: s L21",
+                "to CGAL's: hier.", "farthest");
     for (const bench::MeshEntry& m : bench::kMeshes) {
       if (!wanted(m)) continue;
       const TriangleMesh mesh = io::readMesh(std::filesystem::path(o.data) / m.path);
@@ -418,14 +452,10 @@ int main(int argc, char** argv) {
     std::shared_ptr<const geotex::GeoTexModel> charts;
   };
   std::vector<Measured> measured;
-  if (figure7Only) {
-    std::printf("Fig. 7's charts: 200 proxies, maps up to 128 texels\n");
-    for (const bench::MeshEntry& m : bench::kMeshes) {
-      if (!wanted(m)) continue;
-      Measured& entry = measured.emplace_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
-      entry.charts = bench::defaultCharts(m.name, entry.mesh);
-    }
-  } else {
+  if (section("representations") || section("tables") || section("figure7"))
+    for (const bench::MeshEntry& m : bench::kMeshes)
+      if (wanted(m)) measured.push_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
+  if (section("representations")) {
     bench::CsvWriter reprCsv(out / "geotex_representation.csv",
                              "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
                              "depth_p99_diag,disagreement,mrays_per_s,embree_mrays_per_s");
@@ -433,13 +463,10 @@ int main(int argc, char** argv) {
                 "bytes); surface error of the reconstructions against the mesh (200,000 points a side, %% of the "
                 "diagonal); %d x %d primary rays, CPU backend against Embree\n",
                 size, size);
-    for (const bench::MeshEntry& m : bench::kMeshes) {
-      if (!wanted(m)) continue;
-      Measured& entry = measured.emplace_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
-      entry.charts = bench::compareRepresentations(m.name, entry.mesh, size, repeats, reprCsv);
-    }
+    for (Measured& m : measured) m.charts = bench::compareRepresentations(m.name, m.mesh, size, repeats, reprCsv);
     written.push_back(reprCsv.path());
-
+  }
+  if (section("tables")) {
     bench::CsvWriter chartsCsv(out / "geotex_chart_counts.csv",
                                "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
                                "empty_texel_share,bytes,rms_diag,hausdorff_diag,depth_median_diag,depth_p99_diag,"
@@ -456,6 +483,17 @@ int main(int argc, char** argv) {
                                size, repeats, chartsCsv);
     written.push_back(chartsCsv.path());
   }
+  if (!section("figure7")) {
+    std::printf("\nwrote");
+    for (const std::filesystem::path& p : written) std::printf(" %s", p.c_str());
+    std::printf("\n");
+    return 0;
+  }
+  // Fig. 7's charts: those of the representation section (the map size by the cell complex's
+  // bytes), else 200 charts at the default maps.
+  if (!section("representations")) std::printf("\nFig. 7's charts: 200 proxies, maps up to 128 texels\n");
+  for (Measured& m : measured)
+    if (!m.charts) m.charts = bench::defaultCharts(m.name, m.mesh);
   if (figure7Loop) {
     // The same surface with 4x the triangles: the rasterizer's cost grows, the charts' hardly.
     const auto igea = std::find_if(std::begin(bench::kMeshes), std::end(bench::kMeshes),

@@ -3,6 +3,8 @@
 // regions, one region per component, soups like welded meshes, refusals.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <set>
 
 #include <cellrelief/core/procedural.h>
@@ -99,6 +101,33 @@ TEST(Vsa, LloydIterationsImproveOnTheSeeding) {
   const VsaPartition p = partitionVsa(torus, o);
   ASSERT_GE(p.errorPerIteration.size(), 2u);
   EXPECT_LT(p.errorPerIteration.back(), 0.9 * p.errorPerIteration.front());
+}
+
+// The iterations go on through a rise and keep the best partition seen, whose error is the one
+// reported; a target error stops them at the first iteration that reaches it.
+TEST(Vsa, IterationsKeepTheBestPartitionAndStopAtATargetError) {
+  const TriangleMesh torus = makeTorus(1.0f, 0.35f, 96, 48);
+  VsaOptions o;
+  o.proxies = 24;
+  o.seeding = VsaSeeding::FarthestPoint;
+  o.maxIterations = 12;
+  o.tolerance = 0;
+  const VsaPartition full = partitionVsa(torus, o);
+  ASSERT_EQ(full.errorPerIteration.size(), 13u);
+  EXPECT_NEAR(partitionError(torus, full.regionOfFace, VsaMetric::L21), full.error, 1e-9 * full.error);
+  EXPECT_EQ(full.error, full.errorPerIteration.back());
+  for (std::size_t i = 1; i < full.errorPerIteration.size(); ++i)
+    EXPECT_LE(full.errorPerIteration[i], full.errorPerIteration[i - 1]);
+  // The first iteration whose best reaches the error of iteration 4 is where the target stops.
+  o.targetError = full.errorPerIteration[4];
+  ASSERT_LT(o.targetError, full.errorPerIteration[0]);
+  const std::size_t first = std::size_t(
+      std::find_if(full.errorPerIteration.begin(), full.errorPerIteration.end(), [&](double e) { return e <= o.targetError; }) -
+      full.errorPerIteration.begin());
+  const VsaPartition targeted = partitionVsa(torus, o);
+  EXPECT_EQ(targeted.errorPerIteration.size(), first + 1);
+  EXPECT_LE(targeted.error, o.targetError);
+  EXPECT_NEAR(partitionError(torus, targeted.regionOfFace, VsaMetric::L21), targeted.error, 1e-9 * targeted.error);
 }
 
 TEST(Vsa, EveryComponentGetsAProxy) {

@@ -44,7 +44,10 @@ struct VsaOptions {
   VsaMetric metric = VsaMetric::L21;
   VsaSeeding seeding = VsaSeeding::Hierarchical;
   int maxIterations = 50;   ///< Lloyd iterations after seeding
-  double tolerance = 1e-4;  ///< stop when an iteration lowers the error by less than this fraction
+  double tolerance = 1e-4;  ///< stop when an iteration changes the error by less than this fraction
+  /// Stop as soon as the partition's error (the metric's sum over faces, VsaPartition::error) is
+  /// at most this; 0: no target. For timing a run to a peer's error (bench_geotex against CGAL).
+  double targetError = 0;
   /// Called with the fraction done (seeding counts as the first half).
   std::function<void(double)> progress;
 };
@@ -240,19 +243,27 @@ inline std::vector<std::uint32_t> regionSeeds(const std::vector<double>& errorOf
 inline std::vector<std::uint32_t> flood(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
                                         const std::vector<std::uint32_t>& seeds,
                                         const std::vector<Proxy>& proxies) {
+  // Ordered by error, then face, then region (one 64-bit key for the two ids: fewer branches).
   struct Candidate {
     double error;
-    std::uint32_t face, region;
-    bool operator>(const Candidate& o) const {
-      return error != o.error ? error > o.error : (face != o.face ? face > o.face : region > o.region);
-    }
+    std::uint64_t faceRegion;
+    std::uint32_t face() const { return std::uint32_t(faceRegion >> 32); }
+    std::uint32_t region() const { return std::uint32_t(faceRegion); }
+    bool operator>(const Candidate& o) const { return error != o.error ? error > o.error : faceRegion > o.faceRegion; }
   };
-  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+  std::vector<Candidate> storage;
+  storage.reserve(2 * g.faceCount());
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue(std::greater<>(), std::move(storage));
   std::vector<std::uint32_t> region(g.faceCount(), kInvalidId);
+  // The last region that queued each face: a face beside two faces of one region is queued once
+  // for it (the second entry would be the same candidate; the partition does not change).
+  std::vector<std::uint32_t> queuedFor(g.faceCount(), kInvalidId);
   auto pushNeighbours = [&](std::uint32_t f, std::uint32_t r) {
     for (std::uint32_t i = g.neighbourStart[f]; i < g.neighbourStart[f + 1]; ++i) {
       const std::uint32_t n = g.neighbours[i];
-      if (region[n] == kInvalidId) queue.push({faceError(mesh, g, metric, n, proxies[r]), n, r});
+      if (region[n] != kInvalidId || queuedFor[n] == r) continue;
+      queuedFor[n] = r;
+      queue.push({faceError(mesh, g, metric, n, proxies[r]), std::uint64_t(n) << 32 | r});
     }
   };
   for (std::uint32_t r = 0; r < seeds.size(); ++r) region[seeds[r]] = r;
@@ -260,9 +271,9 @@ inline std::vector<std::uint32_t> flood(const TriangleMesh& mesh, const FaceGrap
   while (!queue.empty()) {
     const Candidate c = queue.top();
     queue.pop();
-    if (region[c.face] != kInvalidId) continue;
-    region[c.face] = c.region;
-    pushNeighbours(c.face, c.region);
+    if (region[c.face()] != kInvalidId) continue;
+    region[c.face()] = c.region();
+    pushNeighbours(c.face(), c.region());
   }
   return region;
 }
@@ -428,15 +439,17 @@ inline VsaPartition partitionVsa(const TriangleMesh& mesh, const VsaOptions& opt
   result.requestedProxies = options.proxies;
   result.components = g.components;
   result.errorPerIteration.push_back(s.error);
-  for (int i = 0; i < options.maxIterations; ++i) {
-    const double before = s.error;
-    detail::LloydState next = s;
-    detail::lloydIteration(mesh, g, options.metric, next);
-    // Flooding is a heuristic step: keep the better of the two, so the error never rises.
-    if (next.error <= before) s = std::move(next);
+  // Flooding is a heuristic step: an iteration may raise the error and a later one lower it below
+  // where it was, so the iterations go on through a rise (as CGAL's do) and the best partition
+  // seen is kept; they stop when one changes the error by less than the tolerance.
+  detail::LloydState current = s;
+  for (int i = 0; i < options.maxIterations && !(s.error <= options.targetError); ++i) {
+    const double before = current.error;
+    detail::lloydIteration(mesh, g, options.metric, current);
+    if (current.error < s.error) s = current;
     result.errorPerIteration.push_back(s.error);
     if (options.progress) options.progress(0.5 + 0.5 * double(i + 1) / double(options.maxIterations));
-    if (before - s.error <= options.tolerance * before) break;
+    if (std::abs(before - current.error) <= options.tolerance * before) break;
   }
   result.regionOfFace = std::move(s.regionOfFace);
   result.proxies = std::move(s.proxies);
