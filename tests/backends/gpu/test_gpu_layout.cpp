@@ -183,6 +183,7 @@ class EntryChooser : public TraversalControls {
     entryTimed(rasterized, rasterized ? rasterizedSeconds : computeSeconds);
     return rasterized;
   }
+  void newScene() { forgetEntryTimes(); }
 };
 
 TEST(RayEntryChoice, FastestTriesEachEntryOncePerVariantAndSizeAndKeepsTheFaster) {
@@ -205,6 +206,11 @@ TEST(RayEntryChoice, FastestTriesEachEntryOncePerVariantAndSizeAndKeepsTheFaster
   EXPECT_FALSE(c.frame(shaded, 640, 480, 0.002, 0.003));
   EXPECT_TRUE(c.frame(shaded, 640, 480, 0.002, 0.003));
   EXPECT_FALSE(c.frame(primary, 640, 480, 0.019, 0.001));  // the first verdict stands
+  // A new scene (an upload) is timed anew.
+  c.newScene();
+  EXPECT_TRUE(c.frame(primary, 640, 480, 0.001, 0.019));
+  EXPECT_FALSE(c.frame(primary, 640, 480, 0.001, 0.019));
+  EXPECT_TRUE(c.frame(primary, 640, 480, 0.001, 0.019));
 }
 
 TEST(RayEntryChoice, FastestRasterizesWithoutAClockAndNeverWhereRasterizingCannotServe) {

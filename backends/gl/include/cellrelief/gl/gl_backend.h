@@ -73,6 +73,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
   void upload(const render::Scene& scene) override {
     mContext->makeCurrent();
     releaseScene();
+    forgetEntryTimes();  // another scene: the entries' times were its own
     gpu::checkSceneSupported(scene, "the OpenGL backend");
     // Polycube meshes use storage binding 10, geometry textures 12, relief surfaces 13; OpenGL 4.3 promises only 8
     // (llvmpipe and the GPU drivers have more).

@@ -32,14 +32,16 @@ namespace cellrelief::gpu {
 ///
 /// Why a measured default: which is faster depends on the device, not only on the scene. On
 /// llvmpipe and lavapipe the fragment pass runs 1.2x to 1.8x the compute pass (bench_backends); on
-/// an NVIDIA H100, whose graphics pipeline runs on 2 of its 66 TPCs, the compute pass ran 5x to 19x
-/// the fragment pass (bench_geotex's Fig. 7, docs/geotex.md), and a gaming GPU runs both on every SM.
+/// an NVIDIA H100, whose graphics pipeline runs on 2 of its 66 TPCs (NVIDIA's H100 whitepaper),
+/// the compute pass ran 5x to 19x the fragment pass (bench_geotex's Fig. 7, docs/geotex.md); a
+/// gaming GPU runs both on every SM.
 enum class RayEntry {
   Compute,
   Rasterized,
-  /// Each of the two timed once on the device's clock per shader variant and frame size, the faster
-  /// kept; Rasterized on a CPU device (llvmpipe, lavapipe: measured faster there, and no trials
-  /// make their frames depend on timing) or where the device has no clock.
+  /// Each of the two timed once on the device's clock per shader variant and frame size (and
+  /// scene: an upload starts afresh), the faster kept. Rasterized on a CPU device (llvmpipe,
+  /// lavapipe: measured faster there, and no trials make their frames depend on timing) or where
+  /// the device has no clock.
   Fastest
 };
 
@@ -96,6 +98,12 @@ class TraversalControls {
     if (!mTrial || !(seconds > 0)) return;
     EntryTimes& e = mEntryTimes[*mTrial];
     (rasterized ? e.rasterized : e.compute) = seconds;
+    mTrial.reset();
+  }
+
+  /// Drops the entries' times (a new scene is timed anew).
+  void forgetEntryTimes() {
+    mEntryTimes.clear();
     mTrial.reset();
   }
 

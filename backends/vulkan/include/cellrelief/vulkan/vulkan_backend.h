@@ -64,6 +64,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     checkAlive();
     waitForFrame();
     releaseScene();
+    forgetEntryTimes();  // another scene: the entries' times were its own
     gpu::checkSceneSupported(scene, "the Vulkan backend");
     mScene = scene;
     mGpu = gpu::packScene(scene, mLimits, true);
@@ -497,7 +498,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
 
   // ---- a frame ------------------------------------------------------------------------------------
 
-  /// A frame the device cannot dispatch or draw in one piece is refused by its size.
+  /// A frame the device cannot dispatch in one piece is refused by its size.
   void checkFrameSize(const render::RenderOptions& o) const {
     const VkPhysicalDeviceLimits& l = mContext->limits();
     if (std::uint32_t((o.width + gpu::kGroupWidth - 1) / gpu::kGroupWidth) > l.maxComputeWorkGroupCount[0] ||
