@@ -18,7 +18,7 @@ namespace cellrelief::app {
 namespace {
 
 struct CompareBackendsCli {
-  std::string input, output = "out/compare", size = "512x512", camera, device;
+  std::string input, output = "out/compare", size = "512x512", camera, device, entry = "fastest";
   bool shadows = true;
   int repeat = 3;
   SurfaceCli surface;
@@ -64,6 +64,7 @@ int runCompareBackends(const CompareBackendsCli& o) {
       continue;
     }
     auto backend = backends::createBackend(kind, backends::settingsFor(kind, settings));
+    setRayEntry(*backend, o.entry);
     withPath(o.input, [&] { backend->upload(scene); });
     Rendered r{kind, backend->description(), 0, 0, backend->sceneBytes(), {}};
     backend->renderFrame(camera, options);  // warm-up: tracers, shader compilation
@@ -76,6 +77,7 @@ int runCompareBackends(const CompareBackendsCli& o) {
     }
     r.seconds = best;
     r.deviceSeconds = bestDevice;
+    if (const std::string entry = lastRayEntry(*backend); !entry.empty()) r.device += ", " + entry;
     r.bytes = backend->sceneBytes();
     runs.push_back(std::move(r));
   }
@@ -126,6 +128,7 @@ Command addCompareBackendsCommand(CLI::App& app) {
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);
+  cmd->add_option("--entry", o->entry, kRayEntryHelp)->check(CLI::IsMember(kRayEntries))->capture_default_str();
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");
   cmd->add_option("--repeat", o->repeat, "Timed frames per backend (the fastest is reported)")

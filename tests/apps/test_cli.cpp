@@ -391,10 +391,25 @@ TEST(Cli, RenderAndCompareBackendsOnTheGpuBackends) {
     EXPECT_TRUE(test::hasWords(r.output, described)) << r.output;
     EXPECT_EQ(differingPixels(png, dir / "cpu.png"), 0) << backend;
   }
-  const Result cmp =
-      run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 -o " + (dir / "cmp").string(), kDrivers);
+  // The entry as asked, and the same picture by either; the default on these CPU devices rasterizes.
+  for (const auto& [entry, said] : {std::pair{"compute", "compute entry"}, std::pair{"rasterized", "rasterized entry"},
+                                    std::pair{"fastest", "rasterized entry"}}) {
+    const std::string png = (dir / (std::string("vulkan_") + entry + ".png")).string();
+    const Result r =
+        run("render " + spot.string() + " -o " + png + " --size 96x64 --backend vulkan --entry " + entry, kDrivers);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(test::hasWords(r.output, said)) << r.output;
+    EXPECT_EQ(differingPixels(png, dir / "cpu.png"), 0) << entry;
+  }
+  const Result badEntry = run("render " + spot.string() + " -o " + (dir / "x.png").string() + " --entry fragment");
+  EXPECT_NE(badEntry.status, 0) << badEntry.output;
+  EXPECT_TRUE(test::hasWords(badEntry.output, "--entry")) << badEntry.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+  const Result cmp = run("compare-backends " + spot.string() + " --size 80x60 --repeat 1 --entry compute -o " +
+                             (dir / "cmp").string(),
+                         kDrivers);
   ASSERT_EQ(cmp.status, 0) << cmp.output;
-  for (const char* words : {"cpu ", "opengl ", "vulkan ", "Mrays/s", "mask"})
+  for (const char* words : {"cpu ", "opengl ", "vulkan ", "Mrays/s", "mask", "compute entry"})
     EXPECT_TRUE(test::hasWords(cmp.output, words)) << words;
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "side_by_side.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "cmp" / "diff_cpu_opengl.png"));
