@@ -9,7 +9,7 @@
 /// (early fragment tests), or as a compute pass over all pixels, with the same frame. The default
 /// (RayEntry::Fastest) takes the fragment pass on llvmpipe, where it measured 1.3x to 2.1x the
 /// compute pass (docs/backends.md), and on a GPU whichever its clock finds faster (on an H100 the
-/// compute pass, 5x to 19x). The compute pass is also used whenever the eye is inside the scene's
+/// compute pass, 4x to 19x). The compute pass is also used whenever the eye is inside the scene's
 /// bounds (gpu::rasterizedEntryServes).
 ///
 /// A scene pays only for what it uses: each (scene, options) pair compiles a shader variant with

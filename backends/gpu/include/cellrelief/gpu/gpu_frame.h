@@ -33,7 +33,7 @@ namespace cellrelief::gpu {
 /// Why a measured default: which is faster depends on the device, not only on the scene. On
 /// llvmpipe and lavapipe the fragment pass runs 1.2x to 1.8x the compute pass (bench_backends); on
 /// an NVIDIA H100, whose graphics pipeline runs on 2 of its 66 TPCs (NVIDIA's H100 whitepaper),
-/// the compute pass ran 5x to 19x the fragment pass (bench_geotex's Fig. 7, docs/geotex.md); a
+/// the compute pass ran 4x to 19x the fragment pass (bench_geotex's Fig. 7, docs/geotex.md); a
 /// gaming GPU runs both on every SM.
 enum class RayEntry {
   Compute,
