@@ -15,7 +15,7 @@
 ///     their rasterized boxes (and, beside it, from a compute pass over every pixel, and by the
 ///     Vulkan backend from the boxes) against the full mesh rasterized by OpenGL
 ///     (gl::MeshRasterizer), as the image grows, and the largest image at which ray casting is the
-///     faster (the crossover). `--figure7-only` runs this section alone (for a GPU machine),
+///     faster (the crossover). `--sections figure7` runs this section alone (for a GPU machine),
 ///     `--figure7-sizes` sets the sizes, `--figure7-loop` adds the Igea after a Loop step.
 /// Writes geotex_vsa.csv, geotex_representation.csv, geotex_chart_counts.csv and geotex_fig7.csv
 /// (plot: geotex_fig7.png).
@@ -390,21 +390,19 @@ int main(int argc, char** argv) {
   CLI::App app{"bench_geotex: geometry textures against CGAL's VSA, the cell complex and Embree"};
   bench::BenchOptions o;
   o.addTo(app);
-  bool figure7Only = false, figure7Loop = false;
+  bool figure7Loop = false;
   std::string figure7Sizes;
   std::vector<std::string> sections{"vsa", "representations", "tables", "figure7"};
-  app.add_option("--sections", sections, "The sections to run: vsa, representations, tables, figure7")
+  app.add_option("--sections", sections,
+                 "The sections to run: vsa, representations, tables, figure7 (alone: charts at 200 proxies and maps "
+                 "up to 128 texels, no CGAL, Embree or cell complex: the run for a GPU machine)")
       ->delimiter(',')
       ->check(CLI::IsMember({"vsa", "representations", "tables", "figure7"}))
       ->capture_default_str();
-  app.add_flag("--figure7-only", figure7Only,
-               "Only the paper's Fig. 7, as --sections figure7 (charts at 200 proxies, maps up to 128 texels; no "
-               "CGAL, Embree or cell complex): the run for a GPU machine");
   app.add_option("--figure7-sizes", figure7Sizes, "Fig. 7's image sizes, e.g. 320x240,1600x1200,4096x3072");
   app.add_flag("--figure7-loop", figure7Loop,
                "Fig. 7 also on the Igea after one Loop subdivision step (1.07M triangles, charts converted from it)");
   CLI11_PARSE(app, argc, argv);
-  if (figure7Only) sections = {"figure7"};
   const auto section = [&](const char* name) { return std::find(sections.begin(), sections.end(), name) != sections.end(); };
   std::vector<std::pair<int, int>> sizes;
   if (const auto parsed = bench::parseFrameSizes(figure7Sizes)) {
@@ -483,37 +481,33 @@ int main(int argc, char** argv) {
                                size, repeats, chartsCsv);
     written.push_back(chartsCsv.path());
   }
-  if (!section("figure7")) {
-    std::printf("\nwrote");
-    for (const std::filesystem::path& p : written) std::printf(" %s", p.c_str());
-    std::printf("\n");
-    return 0;
+  if (section("figure7")) {
+    // Fig. 7's charts: those of the representation section (the map size by the cell complex's
+    // bytes), else 200 charts at the default maps.
+    if (!section("representations")) std::printf("\nFig. 7's charts: 200 proxies, maps up to 128 texels\n");
+    for (Measured& m : measured)
+      if (!m.charts) m.charts = bench::defaultCharts(m.name, m.mesh);
+    if (figure7Loop) {
+      // The same surface with 4x the triangles: the rasterizer's cost grows, the charts' hardly.
+      const auto read = std::find_if(measured.begin(), measured.end(), [](const Measured& m) { return m.name == "igea"; });
+      const auto entry = std::find_if(std::begin(bench::kMeshes), std::end(bench::kMeshes),
+                                      [](const bench::MeshEntry& m) { return std::string(m.name) == "igea"; });
+      TriangleMesh loop1 = read != measured.end() ? bench::loopSubdivide(read->mesh)
+                                                  : bench::loopSubdivide(io::readMesh(std::filesystem::path(o.data) / entry->path));
+      Measured& subdivided = measured.emplace_back(Measured{"igea_loop1", std::move(loop1), {}});
+      subdivided.charts = bench::defaultCharts(subdivided.name, subdivided.mesh);
+    }
+    bench::CsvWriter figureCsv(out / "geotex_fig7.csv",
+                               "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
+                               "compute_wall_s,vulkan_raycast_device_s,vulkan_raycast_wall_s,raster_device_s,raster_wall_s");
+    std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) from their rasterized boxes, "
+                "against the same cast by a compute pass over every pixel, by Vulkan from the boxes, and the full mesh "
+                "rasterized by OpenGL; median of %d frames, each read back; device time where the driver times it\n",
+                repeats);
+    for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
+    app::drawPlot("plot_geotex_fig7", figureCsv.path(), out / "geotex_fig7.png");
+    written.push_back(figureCsv.path());
   }
-  // Fig. 7's charts: those of the representation section (the map size by the cell complex's
-  // bytes), else 200 charts at the default maps.
-  if (!section("representations")) std::printf("\nFig. 7's charts: 200 proxies, maps up to 128 texels\n");
-  for (Measured& m : measured)
-    if (!m.charts) m.charts = bench::defaultCharts(m.name, m.mesh);
-  if (figure7Loop) {
-    // The same surface with 4x the triangles: the rasterizer's cost grows, the charts' hardly.
-    const auto igea = std::find_if(std::begin(bench::kMeshes), std::end(bench::kMeshes),
-                                   [](const bench::MeshEntry& m) { return std::string(m.name) == "igea"; });
-    Measured& entry = measured.emplace_back(
-        Measured{"igea_loop1", bench::loopSubdivide(io::readMesh(std::filesystem::path(o.data) / igea->path)), {}});
-    entry.charts = bench::defaultCharts(entry.name, entry.mesh);
-  }
-
-  bench::CsvWriter figureCsv(out / "geotex_fig7.csv",
-                             "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
-                             "compute_wall_s,vulkan_raycast_device_s,vulkan_raycast_wall_s,raster_device_s,raster_wall_s");
-  std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) from their rasterized boxes, "
-              "against the same cast by a compute pass over every pixel, by Vulkan from the boxes, and the full mesh "
-              "rasterized by OpenGL; median of %d frames, each read back; device time where the driver times it\n",
-              repeats);
-  for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
-  const std::filesystem::path png = out / "geotex_fig7.png";
-  app::drawPlot("plot_geotex_fig7", figureCsv.path(), png);
-  written.push_back(figureCsv.path());
   std::printf("\nwrote");
   for (const std::filesystem::path& p : written) std::printf(" %s", p.c_str());
   std::printf("\n");

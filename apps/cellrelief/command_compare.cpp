@@ -18,7 +18,8 @@ namespace cellrelief::app {
 namespace {
 
 struct CompareBackendsCli {
-  std::string input, output = "out/compare", size = "512x512", camera, device, entry = "fastest";
+  std::string input, output = "out/compare", size = "512x512", camera, device;
+  gpu::RayEntry entry = gpu::RayEntry::Fastest;
   bool shadows = true;
   int repeat = 3;
   SurfaceCli surface;
@@ -128,7 +129,9 @@ Command addCompareBackendsCommand(CLI::App& app) {
   cmd->add_option("-o,--out", o->output, "Folder for side_by_side.png and the diff pictures")->capture_default_str();
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);
-  cmd->add_option("--entry", o->entry, kRayEntryHelp)->check(CLI::IsMember(kRayEntries))->capture_default_str();
+  cmd->add_option("--entry", o->entry, kRayEntryHelp)
+      ->transform(CLI::CheckedTransformer(rayEntryNames(), CLI::ignore_case).description("fastest|rasterized|compute"))
+      ->default_str("fastest");
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");
   cmd->add_option("--repeat", o->repeat, "Timed frames per backend (the fastest is reported)")

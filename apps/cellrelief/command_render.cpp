@@ -26,7 +26,8 @@ namespace cellrelief::app {
 namespace {
 
 struct RenderCli {
-  std::string input, output, backend = "auto", device, size = "800x800", camera, depth, normals, entry = "fastest";
+  std::string input, output, backend = "auto", device, size = "800x800", camera, depth, normals;
+  gpu::RayEntry entry = gpu::RayEntry::Fastest;
   bool shadows = true, skip = true;
   int reflections = 0;
   SurfaceCli surface;
@@ -50,13 +51,8 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& wha
 
 }  // namespace
 
-void setRayEntry(render::Backend& backend, const std::string& entry) {
-  auto* controls = dynamic_cast<gpu::TraversalControls*>(&backend);
-  if (!controls) return;
-  if (entry == "fastest") controls->setRayEntry(gpu::RayEntry::Fastest);
-  else if (entry == "rasterized") controls->setRayEntry(gpu::RayEntry::Rasterized);
-  else if (entry == "compute") controls->setRayEntry(gpu::RayEntry::Compute);
-  else throw Error(ErrorKind::InvalidArgument, "--entry '" + entry + "': expected fastest, rasterized or compute");
+void setRayEntry(render::Backend& backend, gpu::RayEntry entry) {
+  if (auto* controls = dynamic_cast<gpu::TraversalControls*>(&backend)) controls->setRayEntry(entry);
 }
 
 std::string lastRayEntry(const render::Backend& backend) {
@@ -300,7 +296,9 @@ Command addRenderCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "Color image to write (.png)")->required();
   cmd->add_option("--backend", o->backend, backends::kBackendHelp)->capture_default_str();
   cmd->add_option("--device", o->device, backends::kDeviceHelp);
-  cmd->add_option("--entry", o->entry, kRayEntryHelp)->check(CLI::IsMember(kRayEntries))->capture_default_str();
+  cmd->add_option("--entry", o->entry, kRayEntryHelp)
+      ->transform(CLI::CheckedTransformer(rayEntryNames(), CLI::ignore_case).description("fastest|rasterized|compute"))
+      ->default_str("fastest");
   cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
   cmd->add_option("--camera", o->camera,
                   "yaw,pitch[,fov] around the model, or ex,ey,ez,tx,ty,tz[,fov] (default 35,20,40)");

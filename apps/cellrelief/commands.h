@@ -10,7 +10,6 @@
 #include <map>
 #include <string>
 #include <utility>
-#include <vector>
 
 #include <filesystem>
 #include <memory>
@@ -19,6 +18,7 @@
 
 #include <cellrelief/core/aabb.h>
 #include <cellrelief/projection/choice.h>
+#include <cellrelief/gpu/gpu_frame.h>
 #include <cellrelief/render/backend.h>
 #include <cellrelief/render/camera.h>
 #include <cellrelief/render/scene.h>
@@ -78,14 +78,16 @@ inline std::map<std::string, int> centreNames() {
 /// The value of --size: "WxH", each 1 to 16384. Throws Error otherwise.
 std::pair<int, int> parseImageSize(const std::string& size);
 
-/// --entry of the commands that render: how a GPU backend's traversal reaches the pixels
-/// (gpu::RayEntry); the CPU backend has one way.
-inline const std::vector<std::string> kRayEntries{"fastest", "rasterized", "compute"};
+/// --entry of the commands that render, by name: how a GPU backend's traversal reaches the pixels
+/// (gpu::RayEntry); the CPU backend has one way. Mapped to the enum, as --centre is.
+inline std::map<std::string, gpu::RayEntry> rayEntryNames() {
+  return {{"fastest", gpu::RayEntry::Fastest}, {"rasterized", gpu::RayEntry::Rasterized}, {"compute", gpu::RayEntry::Compute}};
+}
 inline constexpr const char* kRayEntryHelp =
     "GPU backends: fastest (each way timed once on the device, the faster kept; rasterized on CPU devices), "
     "rasterized (the paper's: cells and chart boxes rasterized, a fragment pass) or compute (every pixel)";
-/// Sets `entry` (one of kRayEntries) on a GPU backend; nothing on the CPU backend.
-void setRayEntry(render::Backend& backend, const std::string& entry);
+/// Sets `entry` on a GPU backend; nothing on the CPU backend.
+void setRayEntry(render::Backend& backend, gpu::RayEntry entry);
 /// How the backend's last frame reached its pixels: "rasterized entry", "compute entry", or "" (CPU).
 std::string lastRayEntry(const render::Backend& backend);
 

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Runs ON the device machine (one NVIDIA GPU, no network, root), from the repository root: the
 # figures that need a real GPU.
-#   geotex    bench_geotex --figure7-only: the paper's Fig. 7 (issue 16), geometry textures ray cast
+#   geotex    bench_geotex --sections figure7: the paper's Fig. 7 (issue 16), geometry textures ray cast
 #             by OpenGL and Vulkan against the mesh rasterized by OpenGL, up to 4096 x 3072, on
 #             bunny, armadillo, fertility_9k, Igea and the Igea after one Loop step
 #   polycube  bench_polycube_render: PolyCube-Maps texturing's frame cost per backend (issue 15)
@@ -56,7 +56,7 @@ main() {
     case $step in
       geotex)
         say "geotex: Fig. 7 at $SIZES"
-        timeout -k 5 "${FIGURES_GEOTEX_S:-270}" "$DEVRT/bin/bench_geotex" --figure7-only --figure7-loop \
+        timeout -k 5 "${FIGURES_GEOTEX_S:-270}" "$DEVRT/bin/bench_geotex" --sections figure7 --figure7-loop \
           --figure7-sizes "$SIZES" --threads "$threads" --data "$DEVRT/data" --out "$WORK/geotex"
         echo "--- geotex: exit $?"
         cp "$WORK/geotex/geotex_fig7.csv" "$WORK/geotex/geotex_fig7.png" "$OUT/" 2>/dev/null ;;

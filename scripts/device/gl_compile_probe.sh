@@ -4,12 +4,12 @@
 # (cell complexes) while Vulkan renders them: how long does the NVIDIA GL driver take to compile
 # and run the traversal shader, and what do the relief models cost on Vulkan at 1920x1080?
 set -uo pipefail
-OUT=${OUT:-/tmp/out}; W=/tmp/glprobe; D=/tmp/devrt; mkdir -p "$OUT" "$W" "$D"
-for f in .gl/*.deb; do dpkg -x "$f" /; done; ldconfig
-tar -C "$D" -xJf .devrt/runtime.tar.xz
-export LD_LIBRARY_PATH=$D/lib:/usr/local/nvidia/lib64:/usr/local/nvidia/lib
-export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+OUT=${OUT:-/tmp/out}; W=/tmp/glprobe; D=/tmp/devrt; mkdir -p "$OUT" "$W"
+# shellcheck source=device_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/device_env.sh"
+device_loaders
+device_unpack_runtime "$D" cellrelief || exit 1
+device_nvidia_files
 cr=$D/bin/cellrelief; m=$D/data/meshes
 t() { local s=$SECONDS; echo "=== $*"; timeout -k 5 "${T:-60}" "$@" 2>&1 | grep -E "rendered|device time|error|converted|wrote  "; echo "--- exit ${PIPESTATUS[0]} in $((SECONDS - s)) s"; }
 {
