@@ -166,7 +166,7 @@ inline CellComplex CellComplex::build(const TriangleMesh& mesh, const ComplexOpt
     for (std::size_t f = begin; f < end; ++f) {
       const Vec3u& t = mesh.triangles[f];
       const FixedPoint3 &a = fixed[t[0]], &b = fixed[t[1]], &cc = fixed[t[2]];
-      Vec3i lo, hi;
+      Vec3i lo(0), hi(0);  // every component is set below; GCC at -O2 cannot tell
       for (int k = 0; k < 3; ++k) {
         const std::int64_t mn = std::min({a[k], b[k], cc[k]}), mx = std::max({a[k], b[k], cc[k]});
         // Closed cells: cell i meets [mn, mx] iff i S <= mx and (i + 1) S >= mn.
