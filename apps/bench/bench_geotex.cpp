@@ -111,21 +111,32 @@ void compareVsa(const std::string& name, const TriangleMesh& mesh, int proxies, 
 
 struct Accuracy {
   metrics::RayComparison rays;
-  double seconds = 0;  ///< the CPU backend's depth-and-mask frame
+  double seconds = 0;          ///< the CPU backend's depth-and-mask frame
+  double stepsPerHitRay = 0;   ///< the traversal's work (samples, skip steps) per ray that hits, on average
 };
 
 /// The CPU backend's frame of `scene` against Embree's reference frame of the mesh.
+/// `skip`: the tracers' skipping (geometry textures' pyramids), or the paper's search alone.
 Accuracy measure(const render::Scene& scene, const render::Camera& camera, const render::Frame& reference, int size,
-                 int repeats) {
+                 int repeats, bool skip = true) {
   cpu::CpuBackend cpu;
   cpu.upload(scene);
   render::RenderOptions options;
+  options.trace.skipEmptySpace = skip;
   options.width = options.height = size;
-  options.channels = render::kDepth | render::kMask | render::kNormal;
+  options.channels = render::kDepth | render::kMask | render::kNormal | render::kSteps;
   render::Frame frame;
   Accuracy a;
   a.seconds = medianSeconds(repeats, [&] { frame = cpu.renderFrame(camera, options); });
   a.rays = metrics::compareRays(reference.depth, reference.mask, reference.normal, frame.depth, frame.mask, frame.normal);
+  double steps = 0, hits = 0;
+  for (int y = 0; y < frame.mask.height(); ++y)
+    for (int x = 0; x < frame.mask.width(); ++x)
+      if (frame.mask.at(x, y, 0) != 0) {
+        steps += frame.steps.at(x, y, 0);
+        ++hits;
+      }
+  a.stepsPerHitRay = hits > 0 ? steps / hits : 0;
   return a;
 }
 
@@ -166,6 +177,7 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
   render::Scene chartScene;
   chartScene.geotexModels.push_back(charts);
   const Accuracy chartsAccuracy = measure(chartScene, camera, reference, size, repeats);
+  const Accuracy unskippedAccuracy = measure(chartScene, camera, reference, size, repeats, false);
 
   // Surface error, two-sided against the mesh: the cell complex's default reconstruction, and the
   // charts' union (geotex::reconstruct: texel centres at their heights).
@@ -178,16 +190,18 @@ std::shared_ptr<const geotex::GeoTexModel> compareRepresentations(const std::str
                  const Accuracy& a) {
     const double mrays = rays / a.seconds * 1e-6, embreeMrays = rays / embreeSeconds * 1e-6;
     std::printf("%-13s %-14s %7.2f s %9.2f MiB | RMS %.4f%% Hausdorff %.3f%% | depth median %.4f%% p99 %.4f%% | "
-                "%6.0f /M disagree | %6.2f Mrays/s (%.3fx Embree)\n",
+                "%6.0f /M disagree | %5.1f steps/hit | %6.2f Mrays/s (%.3fx Embree)\n",
                 name.c_str(), what, convertSeconds, double(bytes) / (1 << 20), 100 * surface.rms() / diagonal,
                 100 * surface.hausdorff() / diagonal, 100 * a.rays.depthError.median / diagonal,
-                100 * a.rays.depthError.p99 / diagonal, 1e6 * a.rays.disagreementRate(), mrays, mrays / embreeMrays);
+                100 * a.rays.depthError.p99 / diagonal, 1e6 * a.rays.disagreementRate(), a.stepsPerHitRay, mrays,
+                mrays / embreeMrays);
     csv.row(name, what, convertSeconds, bytes, surface.rms() / diagonal, surface.hausdorff() / diagonal,
-            a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal, a.rays.disagreementRate(), mrays,
-            embreeMrays);
+            a.rays.depthError.median / diagonal, a.rays.depthError.p99 / diagonal, a.rays.disagreementRate(),
+            a.stepsPerHitRay, mrays, embreeMrays);
   };
   row("cell complex", cellsConvert, cells->byteSize(), cellsSurface, cellsAccuracy);
   row("geotex", chartsConvert, charts->byteSize(), chartsSurface, chartsAccuracy);
+  row("geotex no skip", chartsConvert, charts->byteSize(), chartsSurface, unskippedAccuracy);
   std::printf("%-13s %-14s %9s %9.2f MiB | the reference                          | %6.2f Mrays/s\n", name.c_str(),
               "Embree", "", double(embree.byteSize()) / (1 << 20), rays / embreeSeconds * 1e-6);
   return charts;
@@ -456,7 +470,7 @@ int main(int argc, char** argv) {
   if (section("representations")) {
     bench::CsvWriter reprCsv(out / "geotex_representation.csv",
                              "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
-                             "depth_p99_diag,disagreement,mrays_per_s,embree_mrays_per_s");
+                             "depth_p99_diag,disagreement,steps_per_hit_ray,mrays_per_s,embree_mrays_per_s");
     std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
                 "bytes); surface error of the reconstructions against the mesh (200,000 points a side, %% of the "
                 "diagonal); %d x %d primary rays, CPU backend against Embree\n",

@@ -1426,6 +1426,7 @@ struct Chart {
   uint firstTexel;
   uint heightBase;  // the model's height words
   uint emptyCode;
+  uint pyramid;     // the word of the first level-1 pyramid node
 };
 
 Chart gtChart(int model, int c) {
@@ -1442,6 +1443,7 @@ Chart gtChart(int model, int c) {
   ch.firstTexel = gtWords[at + uint(CR_GT_FIRST_TEXEL)];
   ch.heightBase = gtInfo(model, CR_GT_HEIGHT_OFFSET);
   ch.emptyCode = gtInfo(model, CR_GT_EMPTY_CODE);
+  ch.pyramid = gtWords[at + uint(CR_GT_PYRAMID)];
   return ch;
 }
 
@@ -1524,6 +1526,63 @@ float gtRefine(Chart ch, vec3 o, vec3 d, float ta, float tb, float gapA, float g
   return gtHasSurface(gapA) && gapA - gapB > 0.0 ? ta + (tb - ta) * gapA / (gapA - gapB) : tb;
 }
 
+int gtNodesAlong(int texels, int level) { return ((texels - 1) >> level) + 1; }
+
+// Where the ray leaves pyramid node `node` (of `count` on this axis) at `level`, the node moved on
+// while the ray at t is on its far side (GeoTexTracer::sameSideUntil's exitAlong).
+float gtNodeExit(float origin, float dir, float inverse, float t, int level, inout int node, int count) {
+  if (dir == 0.0) return CR_INF;
+  float exit = 0.0;
+  for (int k = 0; k <= count; ++k) {
+    exit = (float((dir > 0.0 ? node + 1 : node) << level) - origin) * inverse;
+    const int next = node + (dir > 0.0 ? 1 : -1);
+    if (exit > t || next < 0 || next >= count) break;
+    node = next;
+  }
+  return exit;
+}
+
+// GeoTexTracer::sameSideUntil: how far from t (up to tEnd) the ray stays above every surface
+// point under it (`above`) or below every one, by the chart's pyramid; t where it cannot tell.
+// `retry`: where the level-1 node it stopped in ends. Each node tested counts as a step.
+float gtSameSideUntil(Chart ch, vec3 o, vec3 d, float t, float tEnd, bool above, out float retry, inout uint samples) {
+  const float margin = 1e-6 * ch.boxSize.z;
+  const vec2 inverse = vec2(1.0) / d.xy;
+  int level = 1;
+  uint first = ch.pyramid;  // the level's first node
+  for (int pass = 0; pass < 8 * (ch.width + ch.height) && t < tEnd; ++pass) {
+    ++samples;
+    const int w = gtNodesAlong(ch.width, level), h = gtNodesAlong(ch.height, level);
+    const vec3 p = o + t * d;
+    int i = clamp(int(floor(p.x)) >> level, 0, w - 1);
+    int j = clamp(int(floor(p.y)) >> level, 0, h - 1);
+    const float exitX = gtNodeExit(o.x, d.x, inverse.x, t, level, i, w);
+    const float exitY = gtNodeExit(o.y, d.y, inverse.y, t, level, j, h);
+    const float exit = min(min(exitX, exitY), tEnd);
+    const float zExit = o.z + exit * d.z;
+    const uint node = gtWords[first + uint(j * w + i)];
+    const uint stored = above ? node & 0xffffu : node >> 16;
+    const float bound = float(int(stored) - 1) * ch.heightScale;
+    const bool passes = above ? stored == 0u || min(p.z, zExit) > bound + margin
+                              : stored != 0u && max(p.z, zExit) < bound - margin;
+    if (exit > t && passes) {
+      t = exit;
+      if (w > 1 || h > 1) {
+        first += uint(w * h);
+        ++level;
+      }
+    } else if (level == 1) {
+      retry = max(t, exit);
+      return t;
+    } else {
+      --level;
+      first -= uint(gtNodesAlong(ch.width, level) * gtNodesAlong(ch.height, level));
+    }
+  }
+  retry = t;
+  return min(t, tEnd);
+}
+
 // GeoTexTracer::intersectChart: the chart's box in chart units (the slab test of core/aabb.h),
 // linear steps by the texels crossed, a passage from above the surface to below it.
 bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout ChartHit hit, inout uint samples) {
@@ -1556,7 +1615,27 @@ bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout Cha
   const float dt = (t1 - t0) / float(steps);
   float tBefore = t0;
   float gapBefore = gtGap(ch, o, d, t0, samples);
+  const bool skip = (P.flags.y & 1) != 0;  // --no-skip turns it off for every representation
+  float walkFrom = t0;                      // the pyramid walk's next try, not before
   for (int k = 1; k <= steps; ++k) {
+    if (skip && k < steps && tBefore >= walkFrom) {
+      // Steps k..m stay on the side of the surface of step k - 1: the search goes on from step m.
+      const bool above = gapBefore > 0.0;
+      const float safe = gtSameSideUntil(ch, o, d, tBefore, t1, above, walkFrom, samples);
+      if (safe >= t1) return false;
+      int m = min(steps - 1, int((safe - t0) / dt));
+      while (m >= k && t0 + float(m) * dt > safe) --m;
+      if (m > k) {
+        const float tm = t0 + float(m) * dt;
+        const float gapM = gtGap(ch, o, d, tm, samples);
+        if ((gapM > 0.0) == above) {
+          tBefore = tm;
+          gapBefore = gapM;
+          k = m;
+          continue;
+        }
+      }
+    }
     const float t = k == steps ? t1 : t0 + float(k) * dt;
     const float gap = gtGap(ch, o, d, t, samples);
     if (gap <= 0.0 && gapBefore > 0.0) {
@@ -1591,23 +1670,67 @@ bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout Cha
   return false;
 }
 
-// GeoTexTracer::intersect over one model: its BVH of chart boxes, nearest hit before tmax.
+// Where the ray enters BVH node `node` before tmax (the slab test of pcBoxReached), or -1.
+float gtNodeEntry(uint nodeBase, uint node, vec3 o, vec3 d, vec3 inv, float tmax) {
+  const uint at = nodeBase + node * uint(CR_GT_NODE_WORDS);
+  const vec3 lo = gtVec3(at), hi = gtVec3(at + 3u);
+  float t0 = 0.0, t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return -1.0;
+      continue;
+    }
+    float tNear = (lo[a] - o[a]) * inv[a], tFar = (hi[a] - o[a]) * inv[a];
+    if (tNear > tFar) {
+      const float swapped = tNear;
+      tNear = tFar;
+      tFar = swapped;
+    }
+    tFar *= 1.0 + 2.0 * CR_GAMMA3;
+    t0 = max(t0, tNear);
+    t1 = min(t1, tFar);
+    if (t0 > t1) return -1.0;
+  }
+  return t0;
+}
+
+// GeoTexTracer::intersect over one model: its BVH of chart boxes nearer first
+// (BoxBvh::traverseNearFirst), the nearest hit before tmax.
 ChartHit gtTrace(int model, vec3 o, vec3 d, float tmax, bool anyHit, inout uint samples) {
   ChartHit best = ChartHit(tmax, vec2(0.0), -1);
   const uint nodeBase = gtInfo(model, CR_GT_NODE_OFFSET), primitives = gtInfo(model, CR_GT_PRIMITIVE_OFFSET);
   const vec3 inv = 1.0 / d;
   uint stack[64];
+  float entries[64];
   int top = 0;
-  stack[top++] = 0u;
+  const float rootEntry = gtNodeEntry(nodeBase, 0u, o, d, inv, best.t);
+  if (rootEntry < 0.0) return best;
+  stack[top] = 0u;
+  entries[top++] = rootEntry;
   while (top > 0) {
-    const uint node = stack[--top];
+    --top;
+    const uint node = stack[top];
+    if (entries[top] > best.t) continue;
     const uint at = nodeBase + node * uint(CR_GT_NODE_WORDS);
-    if (!pcBoxReached(o, d, inv, gtVec3(at), gtVec3(at + 3u), best.t)) continue;
     const uint first = gtWords[at + 6u], count = gtWords[at + 7u];
     if (count == 0u) {
+      const uint left = node + 1u, right = first;
+      const float leftEntry = gtNodeEntry(nodeBase, left, o, d, inv, best.t);
+      const float rightEntry = gtNodeEntry(nodeBase, right, o, d, inv, best.t);
       if (top < 62) {
-        stack[top++] = first;       // the right child
-        stack[top++] = node + 1u;   // the left child, next
+        if (leftEntry >= 0.0 && rightEntry >= 0.0) {
+          const bool leftFirst = leftEntry <= rightEntry;
+          stack[top] = leftFirst ? right : left;
+          entries[top++] = leftFirst ? rightEntry : leftEntry;
+          stack[top] = leftFirst ? left : right;
+          entries[top++] = leftFirst ? leftEntry : rightEntry;
+        } else if (leftEntry >= 0.0) {
+          stack[top] = left;
+          entries[top++] = leftEntry;
+        } else if (rightEntry >= 0.0) {
+          stack[top] = right;
+          entries[top++] = rightEntry;
+        }
       }
       continue;
     }

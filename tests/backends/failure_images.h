@@ -39,6 +39,7 @@ struct AgreementBounds {
   double mask = 0, depthP95 = 0, normalP95 = 0, meanColour = 0, p99Colour = 0;
   double medianColour = 256;  ///< the median must stay below this (levels of 255)
   bool sameCells = false;   ///< the cell channel must agree exactly
+  double meanSteps = -1;    ///< the mean steps-per-ray difference must stay at or below this (< 0: not checked)
 };
 
 /// Renders `scene` from each camera on OpenGL and Vulkan (a failure under CI where one does not
@@ -66,9 +67,9 @@ inline int expectGpuBackendsAgree(const render::Scene& scene, std::span<const re
       ++compared;
       const std::string what = label + ", view " + std::to_string(v) + " on " + std::string(backendName(kind));
       std::printf("%s: %zu hits, mask %zu px, depth median %.2e p95 %.2e max %.2e (of the sample spacing), normal "
-                  "median %.4f p95 %.4f deg, colour mean %.3f median %.0f p99 %.0f, cells differ %.2e\n",
+                  "median %.4f p95 %.4f deg, colour mean %.3f median %.0f p99 %.0f, cells differ %.2e, steps differ %.3f\n",
                   what.c_str(), a.bothHit, a.maskDiffers, a.medianTexels, a.p95Texels, a.maxTexels, a.medianDegrees,
-                  a.p95Degrees, a.meanColor, a.medianColor, a.p99Color, a.cellFraction);
+                  a.p95Degrees, a.meanColor, a.medianColor, a.p99Color, a.cellFraction, a.meanSteps);
       EXPECT_GT(a.bothHit, bounds.minHits) << what;
       EXPECT_LE(a.maskFraction, bounds.mask) << what;
       EXPECT_LE(a.p95Texels, bounds.depthP95) << what;
@@ -77,6 +78,7 @@ inline int expectGpuBackendsAgree(const render::Scene& scene, std::span<const re
       EXPECT_LE(a.p99Color, bounds.p99Colour) << what;
       EXPECT_LT(a.medianColor, bounds.medianColour) << what;
       if (bounds.sameCells) EXPECT_EQ(a.cellFraction, 0.0) << what;
+      if (bounds.meanSteps >= 0) EXPECT_LE(a.meanSteps, bounds.meanSteps) << what;
       if (a.maskFraction > bounds.mask || a.meanColor > bounds.meanColour || a.p99Color > bounds.p99Colour ||
           a.medianColor >= bounds.medianColour) {
         std::string stem = label + "_view" + std::to_string(v) + "_" + std::string(backendName(kind));

@@ -144,6 +144,49 @@ class BoxBvh {
     }
   }
 
+  /// As traverse, nearer first: at each inner node the child the ray enters first is visited
+  /// first, and a node entered past tmax (lowered by a hit meanwhile) is skipped. For nearest-hit
+  /// queries whose primitives cost more than a box test (a height-map search per box): boxes
+  /// behind the first hit are then seldom searched.
+  template <class Visit>
+  void traverseNearFirst(const Ray<T>& ray, T& tmax, Visit&& visit) const {
+    if (mNodes.empty()) return;
+    const auto enters = [&](const Node& node, T& entry) {
+      Ray<T> clipped = ray;
+      clipped.tmax = tmax;
+      const RayInterval<T> span = intersect(clipped, node.box);
+      entry = span.t0;
+      return span.hit;
+    };
+    std::pair<T, std::uint32_t> stack[64];
+    int top = 0;
+    T rootEntry;
+    if (!enters(mNodes[0], rootEntry)) return;
+    stack[top++] = {rootEntry, 0};
+    while (top > 0) {
+      const auto [entry, index] = stack[--top];
+      if (entry > tmax) continue;
+      const Node& node = mNodes[index];
+      if (node.count > 0) {
+        for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+          if (visit(i, tmax)) return;
+        continue;
+      }
+      const std::uint32_t left = index + 1, right = node.first;
+      T leftEntry, rightEntry;
+      const bool hitsLeft = enters(mNodes[left], leftEntry), hitsRight = enters(mNodes[right], rightEntry);
+      if (hitsLeft && hitsRight) {
+        const bool leftFirst = leftEntry <= rightEntry;
+        stack[top++] = leftFirst ? std::pair{rightEntry, right} : std::pair{leftEntry, left};
+        stack[top++] = leftFirst ? std::pair{leftEntry, left} : std::pair{rightEntry, right};
+      } else if (hitsLeft) {
+        stack[top++] = {leftEntry, left};
+      } else if (hitsRight) {
+        stack[top++] = {rightEntry, right};
+      }
+    }
+  }
+
   /// Visits leaf slots in order of increasing box distance to p, as visit(i, best2) with best2
   /// the squared distance the visitor has found so far (it may lower it); subtrees farther than
   /// best2 are skipped.

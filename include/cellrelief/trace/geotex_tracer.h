@@ -7,6 +7,13 @@
 /// the step where it first goes from above the surface to below it, and a last secant step.
 /// Overlapping boxes (the charts' rings) resolve to the nearest hit.
 ///
+/// Skipping (not in the paper): pyramids of the maximum and minimum heights per chart (the maximum
+/// mipmaps of Tevs, Ihrke & Seidel 2008, and their mirror) tell where the ray stays above every
+/// surface point under it, or below every one, and the linear search passes over the steps that
+/// fall there: none of them can be a passage from above to below. The steps it does take are the
+/// same steps at the same parameters, so the hits are those of the search without skipping; only
+/// the evaluations between them go.
+///
 /// The surface in a chart: heights interpolated bilinearly between texel centres over the texels
 /// that hold a height; where the texel under the point is empty there is no surface. A hit is a
 /// passage from above the surface to below it: a ray that enters a box below the surface (through
@@ -35,12 +42,14 @@ struct GeoTexTraceOptions {
   float linearStepsPerTexel = 1.0f;  ///< linear steps per texel the ray crosses in x and y
   int minLinearSteps = 3;            ///< a ray along z still takes this many
   int binarySteps = 8;
+  bool skipSteps = true;             ///< pass over linear steps the pyramids show above or below the surface
 };
 
 /// Counts of the work done, for benchmarks (per tracer call; not thread-shared).
 struct GeoTexTraceStats {
   std::uint64_t boxes = 0;    ///< boxes the ray entered
   std::uint64_t samples = 0;  ///< height-map evaluations
+  std::uint64_t nodes = 0;    ///< pyramid nodes tested by the skipping
 };
 
 template <Real T>
@@ -63,6 +72,7 @@ class GeoTexTracer {
       chart.width = int(c.width);
       chart.height = int(c.height);
       chart.firstTexel = c.firstTexel;
+      addPyramids(chart);
       mCharts.push_back(chart);
       const Aabbd b = c.boundsWS();
       boxes.push_back(Aabb<T>(Vec3<T>(b.min), Vec3<T>(b.max)));
@@ -74,13 +84,22 @@ class GeoTexTracer {
 
   const geotex::GeoTexModel& model() const { return *mModel; }
   const BoxBvh<T>& bvh() const { return mBvh; }
+  /// Bytes the tracer adds to the model's: the BVH, the chart frames and the pyramids.
+  std::size_t accelerationBytes() const {
+    return mBvh.nodeCount() * sizeof(typename BoxBvh<T>::Node) + mCharts.size() * sizeof(Chart) +
+           mPyramids.size() * sizeof(std::uint32_t);
+  }
+  /// Every chart's pyramid nodes (level 1 up, level by level; the maximum code + 1 in the low half,
+  /// the minimum code + 1 in the high half, 0 for none) and where chart c's begin.
+  const std::vector<std::uint32_t>& pyramids() const { return mPyramids; }
+  std::uint32_t firstPyramidNode(std::uint32_t c) const { return mCharts[c].firstNode[1]; }
 
   /// The nearest hit in [ray.tmin, ray.tmax): t, the unit shading normal in world space (as
   /// geometricNormal), primId the chart, u and v the chart coordinates in texels; geomId 0.
   Hit<T> intersect(const Ray<T>& ray, GeoTexTraceStats* stats = nullptr) const {
     Hit<T> best;
     T tmax = ray.tmax;
-    mBvh.traverse(ray, tmax, [&](std::uint32_t slot, T& limit) {
+    mBvh.traverseNearFirst(ray, tmax, [&](std::uint32_t slot, T& limit) {
       const std::uint32_t c = mBvh.primitiveIds()[slot];
       if (intersectChart(ray, c, limit, best, stats)) limit = best.t;
       return false;
@@ -122,13 +141,130 @@ class GeoTexTracer {
   static constexpr float kNeutralGrey = 200.0f / 255;
 
  private:
+  // Enough levels for the largest map the model allows (4096 texels a side).
+  static constexpr int kMaxLevels = 14;
+
   struct Chart {
     Vec3<T> origin, rowX, rowY, rowZ;  // world -> chart: ((p - origin) . rowX, ...)
     Aabb<T> box;
     T heightScale = 1;
     int width = 0, height = 0;
     std::uint64_t firstTexel = 0;
+    int levels = 0;                           // pyramid levels: 0 the texels, 1 stored first, the last 1 x 1
+    std::uint32_t firstNode[kMaxLevels] = {};  // each stored level's first node in mPyramids
   };
+
+  /// Level L's node count along an axis of `texels` texels.
+  static int nodesAlong(int texels, int level) { return ((texels - 1) >> level) + 1; }
+
+  /// A pyramid node: the maximum code + 1 in the low half, the minimum code + 1 in the high half.
+  static std::uint32_t pyramidNode(int maxPlusOne, int minPlusOne) {
+    return std::uint32_t(maxPlusOne) | std::uint32_t(minPlusOne) << 16;
+  }
+
+  /// The chart's pyramids, appended to mPyramids, from level 1 (2 x 2 texels a node: a quarter of
+  /// the bytes of per-texel bounds, for about 10% more samples). A level-1 node
+  /// bounds the surface over its texels: bilinear heights mix the texels around a point, one
+  /// further out at most (clamped at the map's edge), with weights summing to one, so the largest
+  /// and smallest codes of the 4 x 4 texels around the node bound them. A bound is stored as
+  /// code + 1, with 0 for "none": no maximum where all those texels are empty (no surface), no
+  /// minimum where a texel of the node is (a ray is never below the surface there). Each level
+  /// above holds the extremes of its 2 x 2 children (0 wins both: none above, none below). A node
+  /// is one word (pyramidNode), as the GPU backends read it.
+  void addPyramids(Chart& c) {
+    const std::uint16_t empty = mModel->heightCodec.emptyCode();
+    auto code = [&](int i, int j) { return mModel->heights[c.firstTexel + std::uint64_t(j) * c.width + i]; };
+    c.levels = 2;
+    while (std::max(nodesAlong(c.width, c.levels - 1), nodesAlong(c.height, c.levels - 1)) > 1) ++c.levels;
+    c.firstNode[1] = std::uint32_t(mPyramids.size());
+    for (int j = 0; j < nodesAlong(c.height, 1); ++j)
+      for (int i = 0; i < nodesAlong(c.width, 1); ++i) {
+        int highest = -1, lowest = 1 << 16;
+        bool emptyInside = false;
+        for (int tj = std::max(0, 2 * j - 1); tj <= std::min(c.height - 1, 2 * j + 2); ++tj)
+          for (int ti = std::max(0, 2 * i - 1); ti <= std::min(c.width - 1, 2 * i + 2); ++ti) {
+            const std::uint16_t k = code(ti, tj);
+            if (k == empty) {
+              emptyInside |= ti >> 1 == i && tj >> 1 == j;
+              continue;
+            }
+            highest = std::max(highest, int(k));
+            lowest = std::min(lowest, int(k));
+          }
+        mPyramids.push_back(pyramidNode(highest + 1, emptyInside || highest < 0 ? 0 : lowest + 1));
+      }
+    for (int level = 2; level < c.levels; ++level) {
+      c.firstNode[level] = std::uint32_t(mPyramids.size());
+      const int w = nodesAlong(c.width, level), h = nodesAlong(c.height, level);
+      const int wc = nodesAlong(c.width, level - 1), hc = nodesAlong(c.height, level - 1);
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+          std::uint32_t highest = 0, lowest = 0xffff;
+          for (int cj = 2 * j; cj <= std::min(hc - 1, 2 * j + 1); ++cj)
+            for (int ci = 2 * i; ci <= std::min(wc - 1, 2 * i + 1); ++ci) {
+              const std::uint32_t child = mPyramids[c.firstNode[level - 1] + std::uint32_t(cj) * wc + ci];
+              highest = std::max(highest, child & 0xffffu);
+              lowest = std::min(lowest, child >> 16);
+            }
+          mPyramids.push_back(pyramidNode(int(highest), int(lowest)));
+        }
+    }
+  }
+
+  struct SameSide {
+    T until;  ///< the ray stays on its side of the surface from t to here
+    T retry;  ///< where the level-1 node the walk stopped in ends: no new walk pays before it
+  };
+
+  /// How far, from parameter t (in the box, not past tEnd), the chart-space ray stays on one side
+  /// of every surface point under it by the pyramids: above when `above`, else below; t itself
+  /// when they cannot tell. The walk climbs a level after each node it passes and descends where
+  /// it cannot pass, as maximum mipmaps do. Where it stops, a level-1 node the ray cannot pass: a
+  /// walk from further on in that node fails too when the ray moves away from the side it is on
+  /// (down when above), and gains at most the node's two texels otherwise, so the search walks
+  /// again only after it.
+  SameSide sameSideUntil(const Chart& c, const Vec3<T>& o, const Vec3<T>& d, T t, T tEnd, bool above,
+                         GeoTexTraceStats* stats) const {
+    // Widened by a millionth of the box so that rounding in the interpolation never crosses them.
+    const T margin = T(1e-6) * c.box.max.z;
+    const T inverse[2] = {T(1) / d.x, T(1) / d.y};
+    int level = 1;
+    // Each pass moves t on or changes the level; bounded, so a rounding stall only ends the skip.
+    for (int pass = 0; pass < 8 * (c.width + c.height) && t < tEnd; ++pass) {
+      if (stats) ++stats->nodes;
+      const int w = nodesAlong(c.width, level), h = nodesAlong(c.height, level);
+      const Vec3<T> p = o + t * d;
+      int i = std::clamp(int(std::floor(p.x)) >> level, 0, w - 1);
+      int j = std::clamp(int(std::floor(p.y)) >> level, 0, h - 1);
+      // The node the ray is in as it leaves t: a point on a node's far side belongs to the next.
+      auto exitAlong = [&](int axis, int& node, int count) {
+        const T dir = d[axis];
+        for (;;) {
+          if (dir == 0) return std::numeric_limits<T>::infinity();
+          const T exit = (T((dir > 0 ? node + 1 : node) << level) - o[axis]) * inverse[axis];
+          const int next = node + (dir > 0 ? 1 : -1);
+          if (exit > t || next < 0 || next >= count) return exit;
+          node = next;
+        }
+      };
+      const T exit = std::min({exitAlong(0, i, w), exitAlong(1, j, h), tEnd});
+      const T zExit = o.z + exit * d.z;
+      const std::uint32_t node = mPyramids[c.firstNode[level] + std::uint32_t(j) * w + i];
+      const std::uint32_t stored = above ? node & 0xffffu : node >> 16;
+      const T bound = T(int(stored) - 1) * c.heightScale;
+      const bool passes = above ? stored == 0 || std::min(p.z, zExit) > bound + margin
+                                : stored != 0 && std::max(p.z, zExit) < bound - margin;
+      if (exit > t && passes) {
+        t = exit;
+        level = std::min(level + 1, c.levels - 1);
+      } else if (level == 1) {
+        return {t, std::max(t, exit)};
+      } else {
+        --level;
+      }
+    }
+    return {std::min(t, tEnd), t};
+  }
 
   /// Bilinear taps around (x, y) over texel centres, clamped to the map; weights of empty taps 0.
   struct Taps {
@@ -211,10 +347,32 @@ class GeoTexTracer {
       if (stats) ++stats->samples;
       return p.z - height(c, p.x, p.y);
     };
+    auto stepT = [&](int k) { return k == steps ? span.t1 : span.t0 + T(k) * dt; };
     T tBefore = span.t0;
     T gapBefore = gapAt(span.t0);
+    T walkFrom = span.t0;  // the pyramid walk's next try, not before
     for (int k = 1; k <= steps; ++k) {
-      const T t = k == steps ? span.t1 : span.t0 + T(k) * dt;
+      if (mOptions.skipSteps && k < steps && tBefore >= walkFrom) {
+        // Steps k..m lie where the ray stays on the side of the surface it is on at step k - 1:
+        // none is a passage from above to below, so the search goes on from step m, evaluated,
+        // as it would have.
+        const bool above = gapBefore > 0;
+        const auto [safe, retry] = sameSideUntil(c, o, d, tBefore, span.t1, above, stats);
+        if (safe >= span.t1) return false;
+        walkFrom = retry;
+        int m = std::min(steps - 1, int((safe - span.t0) / dt));
+        while (m >= k && stepT(m) > safe) --m;
+        if (m > k) {
+          const T gapM = gapAt(stepT(m));
+          if ((gapM > 0) == above) {  // as the pyramid said (rounding aside); else step k as usual
+            tBefore = stepT(m);
+            gapBefore = gapM;
+            k = m;
+            continue;
+          }
+        }
+      }
+      const T t = stepT(k);
       const T gap = gapAt(t);
       if (gap <= 0 && gapBefore > 0) {
         if (std::isfinite(gapBefore)) return refine(c, o, d, tBefore, t, gapBefore, gap, index, hit, gapAt);
@@ -266,6 +424,7 @@ class GeoTexTracer {
   const geotex::GeoTexModel* mModel = nullptr;
   GeoTexTraceOptions mOptions;
   std::vector<Chart> mCharts;
+  std::vector<std::uint32_t> mPyramids;  // every chart's pyramid nodes, level by level
   BoxBvh<T> mBvh;
   T mSurfaceOffset = 0;
 };

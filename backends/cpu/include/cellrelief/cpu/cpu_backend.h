@@ -46,16 +46,14 @@ class CpuBackend final : public render::Backend {
   void upload(const render::Scene& scene) override {
     std::vector<std::unique_ptr<trace::PolycubeTracer>> meshTracers;
     for (const auto& m : scene.polycubeMeshes) meshTracers.push_back(std::make_unique<trace::PolycubeTracer>(m));
-    std::vector<std::unique_ptr<trace::GeoTexTracer<float>>> chartTracers;
-    for (const auto& m : scene.geotexModels) chartTracers.push_back(std::make_unique<trace::GeoTexTracer<float>>(*m));
     std::vector<std::unique_ptr<trace::ParallaxTracer>> surfaceTracers;
     for (const auto& s : scene.reliefSurfaces) surfaceTracers.push_back(std::make_unique<trace::ParallaxTracer>(*s));
     mScene = scene;
     mMeshTracers = std::move(meshTracers);
-    mChartTracers = std::move(chartTracers);
     mSurfaceTracers = std::move(surfaceTracers);
     mTraceOptions.reset();
     mTracers.clear();
+    mChartTracers.clear();
   }
 
   void render(const render::Camera& camera, const render::RenderOptions& options) override {
@@ -87,7 +85,7 @@ class CpuBackend final : public render::Backend {
     for (const auto& m : mScene.geotexModels) bytes += m->byteSize();
     for (const auto& s : mScene.reliefSurfaces) bytes += s->byteSize();
     for (const auto& t : mTracers) bytes += t->accelerationBytes();
-    for (const auto& t : mChartTracers) bytes += t->bvh().nodeCount() * sizeof(BoxBvh<float>::Node);
+    for (const auto& t : mChartTracers) bytes += t->accelerationBytes();
     std::set<const polycube::PolycubeTexture*> textures;  // meshes may share one T2
     for (const auto& t : mMeshTracers) {
       bytes += t->accelerationBytes();
@@ -139,7 +137,7 @@ class CpuBackend final : public render::Backend {
     for (std::size_t i = 0; i < mChartTracers.size(); ++i) {
       trace::GeoTexTraceStats stats;
       const Hitf h = mChartTracers[i]->intersect(clipped(), &stats);
-      steps += std::uint32_t(stats.samples);
+      steps += std::uint32_t(stats.samples + stats.nodes);
       if (!h.valid() || (best.valid() && h.t >= best.hit.t)) continue;
       best = SceneHit{};
       best.hit.t = h.t;
@@ -182,6 +180,11 @@ class CpuBackend final : public render::Backend {
     if (mTraceOptions && *mTraceOptions == options) return;
     mTracers.clear();
     for (const auto& m : mScene.models) mTracers.push_back(std::make_unique<Tracer>(*m, options));
+    // Geometry textures skip as relief models do (--no-skip turns both off).
+    mChartTracers.clear();
+    for (const auto& m : mScene.geotexModels)
+      mChartTracers.push_back(
+          std::make_unique<trace::GeoTexTracer<float>>(*m, trace::GeoTexTraceOptions{.skipSteps = options.skipEmptySpace}));
     mTraceOptions = options;
   }
 

@@ -8,9 +8,10 @@
 /// its charts (kChartWords: the world-to-chart rows as trace::GeoTexTracer holds them, the box in
 /// chart units, the height scale, the map size and first texel), the BVH over their boxes
 /// (kNodeWords, BoxBvh's depth-first order) and its leaf order, the height codes two to a word
-/// (texel 2i in the low half), one octahedral normal word per texel, and one RGBA8 word per texel
-/// when the model has colours. Texels are in the model's own order, so chart records point into
-/// them unchanged.
+/// (texel 2i in the low half), one octahedral normal word per texel, one RGBA8 word per texel
+/// when the model has colours, and the charts' height pyramids (trace::GeoTexTracer::pyramids(),
+/// one word per node). Texels are in the model's own order, so chart records point into them
+/// unchanged.
 #pragma once
 
 #include <bit>
@@ -51,8 +52,9 @@ enum ChartWord : int {
   kWidth = 16,
   kHeight = 17,
   kFirstTexel = 18,
+  kPyramid = 19,     ///< the word of the chart's first pyramid node (level 1)
 };
-static_assert(kFirstTexel < kChartWords);
+static_assert(kPyramid < kChartWords);
 }  // namespace geotex_words
 
 struct GeoTexGpu {
@@ -73,14 +75,16 @@ inline GeoTexGpu packGeoTexModels(const render::Scene& scene, std::size_t maxSto
   out.words[0] = std::uint32_t(models);
   for (std::size_t i = 0; i < models; ++i) {
     const geotex::GeoTexModel& model = *scene.geotexModels[i];
+    const trace::GeoTexTracer<float> tracer(model);  // the rows, the BVH and pyramids, as the CPU traces them
     std::uint64_t words = out.words.size() + model.charts.size() * (kChartWords + 2 * kNodeWords + 1) +
-                          (model.texelCount() + 1) / 2 + model.texelCount() * (model.hasColors() ? 2 : 1);
+                          (model.texelCount() + 1) / 2 + model.texelCount() * (model.hasColors() ? 2 : 1) +
+                          tracer.pyramids().size();
     if (words * 4 > maxStorageBytes || words >= (1ull << 31))
       throw Error(ErrorKind::ResourceLimit, "the scene's geometry textures need " + std::to_string(words * 4) +
                                                 " bytes, beyond the device's storage buffer limit");
-    const trace::GeoTexTracer<float> tracer(model);  // the rows and the BVH, as the CPU traces them
     const auto setInfo = [&](int field, std::uint32_t v) { out.words[1 + i * kModelInfoWords + std::size_t(field)] = v; };
-    setInfo(kChartOffset, std::uint32_t(out.words.size()));
+    const std::size_t firstChart = out.words.size();
+    setInfo(kChartOffset, std::uint32_t(firstChart));
     for (const geotex::ChartBox& c : model.charts) {
       const std::size_t at = out.words.size();
       out.words.resize(at + kChartWords, 0u);
@@ -119,6 +123,11 @@ inline GeoTexGpu packGeoTexModels(const render::Scene& scene, std::size_t maxSto
       for (const Color8& c : model.colors)
         out.words.push_back(std::uint32_t(c.r) | std::uint32_t(c.g) << 8 | std::uint32_t(c.b) << 16 | std::uint32_t(c.a) << 24);
     }
+    const std::size_t firstPyramidWord = out.words.size();
+    out.words.insert(out.words.end(), tracer.pyramids().begin(), tracer.pyramids().end());
+    for (std::size_t c = 0; c < model.charts.size(); ++c)
+      out.words[firstChart + c * kChartWords + kPyramid] =
+          std::uint32_t(firstPyramidWord + tracer.firstPyramidNode(std::uint32_t(c)));
     setInfo(kEmptyCode, model.heightCodec.emptyCode());
     setInfo(kSurfaceOffset, floatWord(tracer.surfaceOffset()));
   }

@@ -183,6 +183,7 @@ inline std::string traversalConstants() {
     s += define("CR_GT_WIDTH", w::kWidth);
     s += define("CR_GT_HEIGHT", w::kHeight);
     s += define("CR_GT_FIRST_TEXEL", w::kFirstTexel);
+    s += define("CR_GT_PYRAMID", w::kPyramid);
     s += define("CR_GT_STEPS_PER_TEXEL", glslFloat(search.linearStepsPerTexel));
     s += define("CR_GT_MIN_LINEAR_STEPS", search.minLinearSteps);
     s += define("CR_GT_BINARY_STEPS", search.binarySteps);
