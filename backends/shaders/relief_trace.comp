@@ -1554,6 +1554,11 @@ float gtSameSideUntil(Chart ch, vec3 o, vec3 d, float t, float tEnd, bool above,
     ++samples;
     const int w = gtNodesAlong(ch.width, level), h = gtNodesAlong(ch.height, level);
     const vec3 p = o + t * d;
+    const float far = float(1 << 30);  // far outside the map, or not a number: no walk
+    if (!(abs(p.x) < far && abs(p.y) < far)) {
+      retry = t;
+      return t;
+    }
     int i = clamp(int(floor(p.x)) >> level, 0, w - 1);
     int j = clamp(int(floor(p.y)) >> level, 0, h - 1);
     const float exitX = gtNodeExit(o.x, d.x, inverse.x, t, level, i, w);
@@ -1623,7 +1628,8 @@ bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout Cha
       const bool above = gapBefore > 0.0;
       const float safe = gtSameSideUntil(ch, o, d, tBefore, t1, above, walkFrom, samples);
       if (safe >= t1) return false;
-      int m = min(steps - 1, int((safe - t0) / dt));
+      const float along = (safe - t0) / dt;  // steps passed; not a number in a degenerate box
+      int m = along >= 0.0 ? int(min(along, float(steps - 1))) : k - 1;
       while (m >= k && t0 + float(m) * dt > safe) --m;
       if (m > k) {
         const float tm = t0 + float(m) * dt;

@@ -143,6 +143,8 @@ class GeoTexTracer {
  private:
   // Enough levels for the largest map the model allows (4096 texels a side).
   static constexpr int kMaxLevels = 14;
+  // Chart coordinates beyond this are far outside any map (and beyond an int's range soon after).
+  static constexpr T kFar = T(1 << 30);
 
   struct Chart {
     Vec3<T> origin, rowX, rowY, rowZ;  // world -> chart: ((p - origin) . rowX, ...)
@@ -234,6 +236,8 @@ class GeoTexTracer {
       if (stats) ++stats->nodes;
       const int w = nodesAlong(c.width, level), h = nodesAlong(c.height, level);
       const Vec3<T> p = o + t * d;
+      // Far outside the map (rounding in a huge box) or not a number: no walk, no integer of it.
+      if (!(std::abs(p.x) < kFar && std::abs(p.y) < kFar)) return {t, t};
       int i = std::clamp(int(std::floor(p.x)) >> level, 0, w - 1);
       int j = std::clamp(int(std::floor(p.y)) >> level, 0, h - 1);
       // The node the ray is in as it leaves t: a point on a node's far side belongs to the next.
@@ -276,7 +280,6 @@ class GeoTexTracer {
   Taps taps(const Chart& c, T x, T y) const {
     Taps t;
     // Far outside the map (or not a number): no surface, and no integer conversion of it.
-    constexpr T kFar = T(1 << 30);
     if (!(x > -kFar && x < kFar && y > -kFar && y < kFar)) return t;
     const int ni = std::clamp(int(std::floor(x)), 0, c.width - 1), nj = std::clamp(int(std::floor(y)), 0, c.height - 1);
     if (mModel->heights[c.firstTexel + std::uint64_t(nj) * c.width + ni] == mModel->heightCodec.emptyCode())
@@ -360,7 +363,8 @@ class GeoTexTracer {
         const auto [safe, retry] = sameSideUntil(c, o, d, tBefore, span.t1, above, stats);
         if (safe >= span.t1) return false;
         walkFrom = retry;
-        int m = std::min(steps - 1, int((safe - span.t0) / dt));
+        const T along = (safe - span.t0) / dt;  // steps passed; not a number in a degenerate box
+        int m = along >= 0 ? int(std::min(along, T(steps - 1))) : k - 1;
         while (m >= k && stepT(m) > safe) --m;
         if (m > k) {
           const T gapM = gapAt(stepT(m));
