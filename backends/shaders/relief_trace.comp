@@ -1119,11 +1119,12 @@ uint pcVertex(int mesh, uint v) { return pcInfo(mesh, CR_PC_VERTEX_OFFSET) + v *
 
 // core/aabb.h intersect: the slab test of the CPU, exactly (a zero direction component decided by
 // the origin alone, the far distance widened against rounding), so flat boxes are not missed.
-bool pcBoxReached(vec3 o, vec3 d, vec3 inv, vec3 lo, vec3 hi, float tmax) {
+// Where the ray enters the box before tmax (0 from inside), or -1 where it does not.
+float boxEntry(vec3 o, vec3 d, vec3 inv, vec3 lo, vec3 hi, float tmax) {
   float t0 = 0.0, t1 = tmax;
   for (int a = 0; a < 3; ++a) {
     if (d[a] == 0.0) {
-      if (o[a] < lo[a] || o[a] > hi[a]) return false;
+      if (o[a] < lo[a] || o[a] > hi[a]) return -1.0;
       continue;
     }
     float tNear = (lo[a] - o[a]) * inv[a], tFar = (hi[a] - o[a]) * inv[a];
@@ -1135,10 +1136,11 @@ bool pcBoxReached(vec3 o, vec3 d, vec3 inv, vec3 lo, vec3 hi, float tmax) {
     tFar *= 1.0 + 2.0 * CR_GAMMA3;
     t0 = max(t0, tNear);
     t1 = min(t1, tFar);
-    if (t0 > t1) return false;
+    if (t0 > t1) return -1.0;
   }
-  return true;
+  return t0;
 }
+bool boxReached(vec3 o, vec3 d, vec3 inv, vec3 lo, vec3 hi, float tmax) { return boxEntry(o, d, inv, lo, hi, tmax) >= 0.0; }
 
 // TriangleBvh::closestHit (or anyHit): the nearest hit with t in [0, tmax).
 MeshHit pcTrace(int mesh, vec3 o, vec3 d, float tmax, bool anyHit) {
@@ -1151,7 +1153,7 @@ MeshHit pcTrace(int mesh, vec3 o, vec3 d, float tmax, bool anyHit) {
   while (top > 0) {
     const uint node = stack[--top];
     const uint at = nodeBase + node * uint(CR_PC_NODE_WORDS);
-    if (!pcBoxReached(o, d, inv, pcVec3(at), pcVec3(at + 3u), best.t)) continue;
+    if (!boxReached(o, d, inv, pcVec3(at), pcVec3(at + 3u), best.t)) continue;
     const uint first = pcWords[at + 6u], count = pcWords[at + 7u];
     if (count == 0u) {
       if (top < 62) {
@@ -1676,28 +1678,10 @@ bool gtIntersectChart(int model, int c, vec3 ro, vec3 rd, float limit, inout Cha
   return false;
 }
 
-// Where the ray enters BVH node `node` before tmax (the slab test of pcBoxReached), or -1.
+// Where the ray enters BVH node `node` before tmax, or -1.
 float gtNodeEntry(uint nodeBase, uint node, vec3 o, vec3 d, vec3 inv, float tmax) {
   const uint at = nodeBase + node * uint(CR_GT_NODE_WORDS);
-  const vec3 lo = gtVec3(at), hi = gtVec3(at + 3u);
-  float t0 = 0.0, t1 = tmax;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0) {
-      if (o[a] < lo[a] || o[a] > hi[a]) return -1.0;
-      continue;
-    }
-    float tNear = (lo[a] - o[a]) * inv[a], tFar = (hi[a] - o[a]) * inv[a];
-    if (tNear > tFar) {
-      const float swapped = tNear;
-      tNear = tFar;
-      tFar = swapped;
-    }
-    tFar *= 1.0 + 2.0 * CR_GAMMA3;
-    t0 = max(t0, tNear);
-    t1 = min(t1, tFar);
-    if (t0 > t1) return -1.0;
-  }
-  return t0;
+  return boxEntry(o, d, inv, gtVec3(at), gtVec3(at + 3u), tmax);
 }
 
 // GeoTexTracer::intersect over one model: its BVH of chart boxes nearer first
@@ -2033,7 +2017,7 @@ MeshHit pxTraceMeshFaces(int s, vec3 o, vec3 d, float tmax, bool anyHit) {
   while (top > 0) {
     const uint node = stack[--top];
     const uint at = nodeBase + node * uint(CR_PX_NODE_WORDS);
-    if (!pcBoxReached(o, d, inv, pxVec3(at), pxVec3(at + 3u), best.t)) continue;
+    if (!boxReached(o, d, inv, pxVec3(at), pxVec3(at + 3u), best.t)) continue;
     const uint first = pxWords[at + 6u], count = pxWords[at + 7u];
     if (count == 0u) {
       if (top < 62) {

@@ -84,6 +84,10 @@ class GeoTexTracer {
 
   const geotex::GeoTexModel& model() const { return *mModel; }
   const BoxBvh<T>& bvh() const { return mBvh; }
+  const GeoTexTraceOptions& options() const { return mOptions; }
+  /// The search's options change the steps, not what is built (the BVH and the pyramids are
+  /// built either way), so a tracer takes new ones in place.
+  void setOptions(const GeoTexTraceOptions& options) { mOptions = options; }
   /// Bytes the tracer adds to the model's: the BVH, the chart frames and the pyramids.
   std::size_t accelerationBytes() const {
     return mBvh.nodeCount() * sizeof(typename BoxBvh<T>::Node) + mCharts.size() * sizeof(Chart) +

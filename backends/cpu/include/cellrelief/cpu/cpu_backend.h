@@ -48,12 +48,14 @@ class CpuBackend final : public render::Backend {
     for (const auto& m : scene.polycubeMeshes) meshTracers.push_back(std::make_unique<trace::PolycubeTracer>(m));
     std::vector<std::unique_ptr<trace::ParallaxTracer>> surfaceTracers;
     for (const auto& s : scene.reliefSurfaces) surfaceTracers.push_back(std::make_unique<trace::ParallaxTracer>(*s));
+    std::vector<std::unique_ptr<trace::GeoTexTracer<float>>> chartTracers;
+    for (const auto& m : scene.geotexModels) chartTracers.push_back(std::make_unique<trace::GeoTexTracer<float>>(*m));
     mScene = scene;
     mMeshTracers = std::move(meshTracers);
     mSurfaceTracers = std::move(surfaceTracers);
+    mChartTracers = std::move(chartTracers);
     mTraceOptions.reset();
     mTracers.clear();
-    mChartTracers.clear();
   }
 
   void render(const render::Camera& camera, const render::RenderOptions& options) override {
@@ -174,17 +176,19 @@ class CpuBackend final : public render::Backend {
     return false;
   }
 
-  /// Builds the tracers (and their empty-space pyramids) for these options; a no-op when the
-  /// scene and options are unchanged since the last call. render() calls it.
+  /// Builds the relief models' tracers (and their empty-space pyramids) for these options; a
+  /// no-op when the scene and options are unchanged since the last call. render() calls it.
   void buildTracers(const trace::TraceOptions& options) {
     if (mTraceOptions && *mTraceOptions == options) return;
     mTracers.clear();
     for (const auto& m : mScene.models) mTracers.push_back(std::make_unique<Tracer>(*m, options));
-    // Geometry textures skip as relief models do (--no-skip turns both off).
-    mChartTracers.clear();
-    for (const auto& m : mScene.geotexModels)
-      mChartTracers.push_back(
-          std::make_unique<trace::GeoTexTracer<float>>(*m, trace::GeoTexTraceOptions{.skipSteps = options.skipEmptySpace}));
+    // Geometry textures skip as relief models do (--no-skip turns both off); their tracers, built
+    // at upload, only change their search.
+    for (const auto& t : mChartTracers) {
+      trace::GeoTexTraceOptions search = t->options();
+      search.skipSteps = options.skipEmptySpace;
+      t->setOptions(search);
+    }
     mTraceOptions = options;
   }
 
