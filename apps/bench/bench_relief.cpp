@@ -91,7 +91,9 @@ int main(int argc, char** argv) {
               "triangles", "N", "T", "convert", "bytes", "rms%", "haus%", "LS voxel", "LS time",
               "LS bytes", "LS rms%", "time x", "memory x", "cell time", "cell rms%",
               "centr rms%");
-  for (const auto& [name, mesh] : meshes) {
+  for (const auto& entry : meshes) {
+    const std::string& name = entry.first;
+    const TriangleMesh& mesh = entry.second;  // not a structured binding: clang before 16 cannot capture one
     const double diagonal = mesh.bounds().diagonal();
     const metrics::DistanceField field(mesh);
     relief::ReliefModel model;
