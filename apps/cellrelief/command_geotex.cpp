@@ -26,7 +26,7 @@ namespace {
 
 struct GeoTexCli {
   std::string input, output, metric = "l21", seeding = "hierarchical", picture, extent;
-  int charts = 64, texels = 128, bits = 16, rings = 1, iterations = 50;
+  int charts = 64, texels = 128, bits = 16, rings = 1, iterations = 50, teleports = 0;
   double smoothing = 0;
 };
 
@@ -112,6 +112,7 @@ geotex::GeoTexOptions parseOptions(const GeoTexCli& o) {
   geotex::GeoTexOptions options;
   options.vsa.proxies = o.charts;
   options.vsa.maxIterations = o.iterations;
+  options.vsa.teleports = o.teleports;
   if (o.metric == "l21")
     options.vsa.metric = geotex::VsaMetric::L21;
   else if (o.metric == "l2")
@@ -167,9 +168,9 @@ int runGeoTex(const GeoTexCli& o) {
     const geotex::GeoTexConversion r = withPath(o.input, [&] { return geotex::convertMesh(mesh, options); });
     model = std::make_shared<geotex::GeoTexModel>(r.model);
     const double seconds = secondsSince(t0);
-    std::printf("charts        %zu (asked %d, %d components), VSA %s error %.4g after %zu iterations\n",
+    std::printf("charts        %zu (asked %d, %d components), VSA %s error %.4g after %zu iterations, %d teleports\n",
                 model->charts.size(), o.charts, r.partition.components, o.metric.c_str(), r.partition.error,
-                r.partition.errorPerIteration.size() - 1);
+                r.partition.errorPerIteration.size() - 1, r.partition.teleports);
     std::printf("maps          %llu texels, %llu empty (%.1f%%), %d-bit heights%s; %zu folded faces\n",
                 (unsigned long long)model->texelCount(), (unsigned long long)r.emptyTexels(),
                 100.0 * double(r.emptyTexels()) / double(std::max<std::uint64_t>(1, model->texelCount())), o.bits,
@@ -209,6 +210,10 @@ Command addGeoTexCommand(CLI::App& app) {
   cmd->add_option("--iterations", o->iterations, "Most Lloyd iterations")
       ->capture_default_str()
       ->check(CLI::Range(0, 10000));
+  cmd->add_option("--teleports", o->teleports,
+                  "Most VSA region teleports where the iterations settle (a cheap merge frees a proxy for the worst region)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
   cmd->add_option("--rings", o->rings, "Rings of faces added around each chart (0: cracks show)")
       ->capture_default_str()
       ->check(CLI::Range(0, 16));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include <set>
 
@@ -200,6 +201,75 @@ TEST(Vsa, BunnyTwoHundredProxies) {
   // L2,1 error relative to the area: the mean squared normal deviation, small with 200 planes.
   const double meanDeviation = p.error / surfaceArea(bunny);
   EXPECT_LT(meanDeviation, cellrelief::test::kSlowBuild ? 0.25 : 0.1);
+}
+
+}  // namespace
+}  // namespace cellrelief::geotex
+
+namespace cellrelief::geotex {
+namespace {
+
+// The closed forms a teleport prices merges with (L2,1: 2 (A - |sum A n|); L2: the covariance's
+// smallest eigenvalue) against the face-by-face sum against the fitted proxy, on a real mesh cut
+// into regions, and for two regions merged.
+TEST(Vsa, RegionFitsFromMomentsGiveTheFaceSums) {
+  const auto path = cellrelief::test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";
+  CELLRELIEF_REQUIRE_FILE(path);
+  const TriangleMesh mesh = io::readMesh(path);
+  const FaceGraph g = buildFaceGraph(mesh);
+  for (const VsaMetric metric : {VsaMetric::L21, VsaMetric::L2}) {
+    VsaOptions o;
+    o.proxies = 12;
+    o.metric = metric;
+    o.maxIterations = 2;
+    const VsaPartition p = partitionVsa(mesh, o);
+    std::vector<std::uint32_t> regions = p.regionOfFace;
+    const std::vector<detail::RegionMoments> m = detail::regionMoments(mesh, g, metric, regions, p.proxies.size());
+    // Regions 0 and 1 as one, as a merge makes them.
+    detail::RegionMoments both = m[0];
+    both += m[1];
+    for (std::uint32_t& r : regions)
+      if (r == 1) r = 0;
+    const std::pair<const detail::RegionMoments*, std::uint32_t> cases[] = {{&m[2], 2}, {&m[3], 3}, {&both, 0}};
+    for (const auto& [moments, region] : cases) {
+      const detail::Fit fit = detail::fitRegion(*moments, metric, p.proxies[region]);
+      double sum = 0;
+      for (std::size_t f = 0; f < g.faceCount(); ++f)
+        if (regions[f] == region) sum += detail::faceError(mesh, g, metric, f, fit.proxy);
+      EXPECT_NEAR(fit.error, sum, 1e-9 * moments->area + 1e-6 * sum) << "region " << region;
+      EXPECT_GT(sum, 0);
+    }
+  }
+}
+
+// Where the iterations settle, teleports move proxies from where two regions merge cheaply to the
+// worst regions: a lower error within the same iterations (measured 13% lower here; over 16
+// seedings and counts on fertility and bumpy, 11 lower, 4 the same, 1 higher by 0.9%), regions
+// still connected, the best partition kept (the reported error is the partition's, and never
+// rises) and the budget respected.
+TEST(Vsa, TeleportsLowerTheErrorWhereTheIterationsSettle) {
+  const auto path = cellrelief::test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";
+  CELLRELIEF_REQUIRE_FILE(path);
+  const TriangleMesh mesh = io::readMesh(path);
+  VsaOptions o;
+  o.proxies = 200;
+  o.seeding = VsaSeeding::FarthestPoint;
+  o.maxIterations = 30;
+  const VsaPartition plain = partitionVsa(mesh, o);
+  o.teleports = 20;
+  const VsaPartition teleported = partitionVsa(mesh, o);
+  EXPECT_EQ(plain.teleports, 0);
+  EXPECT_GT(teleported.teleports, 0);
+  EXPECT_LE(teleported.teleports, o.teleports);
+  EXPECT_LT(teleported.error, 0.95 * plain.error);
+  EXPECT_EQ(teleported.proxies.size(), plain.proxies.size());
+  EXPECT_NEAR(partitionError(mesh, teleported.regionOfFace, VsaMetric::L21), teleported.error, 1e-9 * teleported.error);
+  for (std::size_t i = 1; i < teleported.errorPerIteration.size(); ++i)
+    EXPECT_LE(teleported.errorPerIteration[i], teleported.errorPerIteration[i - 1]);
+  expectConnectedRegions(mesh, teleported);
+  std::printf("fertility, %zu proxies, at most %d iterations: L2,1 %.5f, with %d teleports %.5f (%.1f%% lower)\n",
+              plain.proxies.size(), o.maxIterations, plain.error / surfaceArea(mesh), teleported.teleports,
+              teleported.error / surfaceArea(mesh), 100 * (1 - teleported.error / plain.error));
 }
 
 }  // namespace
