@@ -238,22 +238,38 @@ TEST(Vsa, RegionFitsFromMomentsGiveTheFaceSums) {
         if (regions[f] == region) sum += detail::faceError(mesh, g, metric, f, fit.proxy);
       EXPECT_NEAR(fit.error, sum, 1e-9 * moments->area + 1e-6 * sum) << "region " << region;
       EXPECT_GT(sum, 0);
+      // And the fit is the best: a proxy turned by a degree (and moved, for L2) fits worse.
+      Proxy turned = fit.proxy;
+      turned.normal = glm::normalize(turned.normal + 0.0175 * glm::normalize(glm::cross(turned.normal, Vec3d(0.3, 0.5, 0.8))));
+      turned.point += 0.01 * Vec3d(mesh.bounds().diagonal());
+      double turnedSum = 0;
+      for (std::size_t f = 0; f < g.faceCount(); ++f)
+        if (regions[f] == region) turnedSum += detail::faceError(mesh, g, metric, f, turned);
+      EXPECT_GT(turnedSum, sum) << "region " << region;
     }
   }
 }
 
 // Where the iterations settle, teleports move proxies from where two regions merge cheaply to the
-// worst regions: a lower error within the same iterations (measured 13% lower here; over 16
-// seedings and counts on fertility and bumpy, 11 lower, 4 the same, 1 higher by 0.9%), regions
-// still connected, the best partition kept (the reported error is the partition's, and never
-// rises) and the budget respected.
-TEST(Vsa, TeleportsLowerTheErrorWhereTheIterationsSettle) {
-  const auto path = cellrelief::test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";
+// worst regions: a lower error within the same iterations (measured 13% lower on fertility by L2,1
+// and 8% on bumpy by L2; over 32 cases of both meshes, metrics and seedings and 30 to 200
+// proxies, 19 lower, 12 the same, 1 higher by 0.9%), regions still connected, the budget kept, and
+// the best partition reported with its error last in the history.
+struct TeleportCase {
+  const char* mesh;
+  VsaMetric metric;
+  VsaSeeding seeding;
+};
+class VsaTeleports : public testing::TestWithParam<TeleportCase> {};
+
+TEST_P(VsaTeleports, LowerTheErrorWhereTheIterationsSettle) {
+  const auto path = cellrelief::test::dataDir() / "meshes/small" / GetParam().mesh;
   CELLRELIEF_REQUIRE_FILE(path);
   const TriangleMesh mesh = io::readMesh(path);
   VsaOptions o;
   o.proxies = 200;
-  o.seeding = VsaSeeding::FarthestPoint;
+  o.metric = GetParam().metric;
+  o.seeding = GetParam().seeding;
   o.maxIterations = 30;
   const VsaPartition plain = partitionVsa(mesh, o);
   o.teleports = 20;
@@ -263,14 +279,24 @@ TEST(Vsa, TeleportsLowerTheErrorWhereTheIterationsSettle) {
   EXPECT_LE(teleported.teleports, o.teleports);
   EXPECT_LT(teleported.error, 0.95 * plain.error);
   EXPECT_EQ(teleported.proxies.size(), plain.proxies.size());
-  EXPECT_NEAR(partitionError(mesh, teleported.regionOfFace, VsaMetric::L21), teleported.error, 1e-9 * teleported.error);
-  for (std::size_t i = 1; i < teleported.errorPerIteration.size(); ++i)
-    EXPECT_LE(teleported.errorPerIteration[i], teleported.errorPerIteration[i - 1]);
+  EXPECT_NEAR(partitionError(mesh, teleported.regionOfFace, o.metric), teleported.error, 1e-9 * teleported.error);
+  EXPECT_EQ(teleported.error, teleported.errorPerIteration.back());  // a teleport's own gain is in the history
   expectConnectedRegions(mesh, teleported);
-  std::printf("fertility, %zu proxies, at most %d iterations: L2,1 %.5f, with %d teleports %.5f (%.1f%% lower)\n",
-              plain.proxies.size(), o.maxIterations, plain.error / surfaceArea(mesh), teleported.teleports,
-              teleported.error / surfaceArea(mesh), 100 * (1 - teleported.error / plain.error));
+  std::printf("%s, %zu proxies, at most %d iterations: error %.6g, with %d teleports %.6g (%.1f%% lower)\n",
+              GetParam().mesh, plain.proxies.size(), o.maxIterations, plain.error, teleported.teleports,
+              teleported.error, 100 * (1 - teleported.error / plain.error));
 }
+
+INSTANTIATE_TEST_SUITE_P(RealMeshes, VsaTeleports,
+                         testing::Values(TeleportCase{"fertility_9k__libigl-tutorial-data.off", VsaMetric::L21,
+                                                      VsaSeeding::FarthestPoint},
+                                         TeleportCase{"bumpy__libigl-tutorial-data.off", VsaMetric::L2,
+                                                      VsaSeeding::Hierarchical}),
+                         [](const auto& param) {
+                           return std::string(param.param.metric == VsaMetric::L2 ? "L2_" : "L21_") +
+                                  (param.param.seeding == VsaSeeding::Hierarchical ? "hierarchical_" : "farthest_") +
+                                  std::string(param.param.mesh).substr(0, std::string(param.param.mesh).find('_'));
+                         });
 
 }  // namespace
 }  // namespace cellrelief::geotex

@@ -86,6 +86,9 @@ struct FaceGraph {
   std::vector<std::uint32_t> neighbours;
   std::vector<std::uint32_t> componentOfFace;
   int components = 0;
+  /// The centre of the face centroids' bounds: second moments are summed about it, so that a mesh
+  /// far from the origin keeps its precision in the covariance (moment - A p p^T).
+  Vec3d centre{0};
 
   std::size_t faceCount() const { return area.size(); }
 };
@@ -124,6 +127,11 @@ inline FaceGraph buildFaceGraph(const TriangleMesh& mesh) {
     g.normal[f] = len > 0 ? n / len : Vec3d(0);
     g.centroid[f] = (a + b + c) / 3.0;
   });
+  if (nf > 0) {
+    Vec3d lo = g.centroid[0], hi = g.centroid[0];
+    for (const Vec3d& c : g.centroid) lo = glm::min(lo, c), hi = glm::max(hi, c);
+    g.centre = 0.5 * (lo + hi);
+  }
   const std::vector<std::uint32_t> weld = weldByPosition(mesh);  // so that edges of a soup are found
   struct EdgeUse {
     std::uint64_t key;
@@ -189,12 +197,14 @@ inline double faceError(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric 
          (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
-/// What a region's best proxy and its error follow from: sums over its faces.
+/// What a region's best proxy and its error follow from: sums over its faces, positions taken
+/// about `about` (FaceGraph::centre).
 struct RegionMoments {
+  Vec3d about{0};
   double area = 0;
   Vec3d weightedNormal{0};    ///< sum of area * unit normal
-  Vec3d weightedCentroid{0};  ///< sum of area * centroid
-  glm::dmat3 moment{0};       ///< L2 only: the integral of x x^T over the faces
+  Vec3d weightedCentroid{0};  ///< sum of area * (centroid - about)
+  glm::dmat3 moment{0};       ///< L2 only: the integral of x x^T over the faces, x = position - about
 
   RegionMoments& operator+=(const RegionMoments& o) {
     area += o.area;
@@ -208,17 +218,19 @@ struct RegionMoments {
 inline std::vector<RegionMoments> regionMoments(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric,
                                                 const std::vector<std::uint32_t>& regionOfFace, std::size_t regions) {
   std::vector<RegionMoments> m(regions);
+  for (RegionMoments& r : m) r.about = g.centre;
   for (std::size_t f = 0; f < g.faceCount(); ++f) {
     RegionMoments& r = m[regionOfFace[f]];
+    const Vec3d centroid = g.centroid[f] - g.centre;
     r.area += g.area[f];
     r.weightedNormal += g.area[f] * g.normal[f];
-    r.weightedCentroid += g.area[f] * g.centroid[f];
+    r.weightedCentroid += g.area[f] * centroid;
     if (metric == VsaMetric::L2) {
       // The integral of x x^T over a triangle: A/12 (sum v v^T + 9 c c^T), c the centroid.
       const Vec3u& t = mesh.triangles[f];
-      glm::dmat3 x = 9.0 * glm::outerProduct(g.centroid[f], g.centroid[f]);
+      glm::dmat3 x = 9.0 * glm::outerProduct(centroid, centroid);
       for (int c = 0; c < 3; ++c) {
-        const Vec3d v(mesh.positions[t[c]]);
+        const Vec3d v = Vec3d(mesh.positions[t[c]]) - g.centre;
         x += glm::outerProduct(v, v);
       }
       r.moment += (g.area[f] / 12.0) * x;
@@ -237,14 +249,15 @@ struct Fit {
 inline Fit fitRegion(const RegionMoments& r, VsaMetric metric, const Proxy& previous) {
   Fit fit{previous, 0};
   if (r.area <= 0) return fit;  // a region of degenerate faces keeps its proxy
-  fit.proxy.point = r.weightedCentroid / r.area;
+  const Vec3d mean = r.weightedCentroid / r.area;  // about r.about
+  fit.proxy.point = r.about + mean;
   if (metric == VsaMetric::L21) {
     // sum A |n - p|^2 = sum A (2 - 2 n.p) over unit normals (a degenerate face has no area).
     const double len = glm::length(r.weightedNormal);
     if (len > 1e-12 * r.area) fit.proxy.normal = r.weightedNormal / len;
     fit.error = std::max(0.0, 2 * r.area - 2 * glm::dot(r.weightedNormal, fit.proxy.normal));
   } else {
-    const glm::dmat3 covariance = r.moment - r.area * glm::outerProduct(fit.proxy.point, fit.proxy.point);
+    const glm::dmat3 covariance = r.moment - r.area * glm::outerProduct(mean, mean);
     const SymmetricEigen3 e = symmetricEigen3(covariance);
     fit.proxy.normal = glm::dot(e.vectors[0], r.weightedNormal) < 0 ? -e.vectors[0] : e.vectors[0];
     fit.error = std::max(0.0, e.values[0]);
@@ -471,9 +484,11 @@ inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metr
     if (worstFace[r] == kInvalidId || s.errorOfFace[f] >= s.errorOfFace[worstFace[r]]) worstFace[r] = f;
   }
   std::vector<std::uint32_t> seeds = regionSeeds(s.errorOfFace, s.regionOfFace, k);
+  // Regions already exact (to rounding) gain nothing from a proxy more.
+  const double negligible = 1e-12 * s.error;
   std::vector<std::uint32_t> worst;
   for (std::uint32_t r = 0; r < k; ++r)
-    if (worstFace[r] != kInvalidId && worstFace[r] != seeds[r]) worst.push_back(r);
+    if (regionError[r] > negligible && worstFace[r] != kInvalidId && worstFace[r] != seeds[r]) worst.push_back(r);
   std::sort(worst.begin(), worst.end(), [&](std::uint32_t a, std::uint32_t b) {
     return regionError[a] != regionError[b] ? regionError[a] > regionError[b] : a < b;
   });
@@ -491,9 +506,10 @@ inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metr
     RegionMoments both = moments[a];
     both += moments[b];
     const Fit fit = fitRegion(both, metric, s.proxies[a]);
-    merges.push_back({fit.error - fitRegion(moments[a], metric, s.proxies[a]).error -
-                          fitRegion(moments[b], metric, s.proxies[b]).error,
-                      a, b, fit});
+    // Never below 0 (a merge cannot lower the error; rounding in the difference can).
+    const double cost = fit.error - fitRegion(moments[a], metric, s.proxies[a]).error -
+                        fitRegion(moments[b], metric, s.proxies[b]).error;
+    merges.push_back({std::max(0.0, cost), a, b, fit});
   }
   std::sort(merges.begin(), merges.end(), [](const Merge& x, const Merge& y) {
     return x.cost != y.cost ? x.cost < y.cost : std::pair(x.kept, x.freed) < std::pair(y.kept, y.freed);
@@ -589,20 +605,25 @@ inline VsaPartition partitionVsa(const TriangleMesh& mesh, const VsaOptions& opt
     if (!settled && change > kStill * before && sinceBest < kSettledAfter) continue;
     if (!(s.error < bestBeforeTeleport)) batch /= 2;  // the last batch did not pay
     int made = 0;
+    detail::LloydState moved;
     if (batch > 0 && teleportsLeft > 0) {
-      current = s;  // teleports start from the best partition
-      made = detail::teleport(mesh, g, options.metric, current, std::min(teleportsLeft, batch));
+      moved = s;  // teleports start from the best partition
+      made = detail::teleport(mesh, g, options.metric, moved, std::min(teleportsLeft, batch));
     }
     if (made == 0) {
       if (settled) break;
       batch = 0;
       continue;
     }
+    current = std::move(moved);
     bestBeforeTeleport = s.error;
     teleportsLeft -= made;
     result.teleports += made;
     sinceBest = 0;
-    if (current.error < s.error) s = current;
+    if (current.error < s.error) {
+      s = current;
+      result.errorPerIteration.back() = s.error;  // the best after this iteration and its teleports
+    }
   }
   result.regionOfFace = std::move(s.regionOfFace);
   result.proxies = std::move(s.proxies);
