@@ -341,7 +341,7 @@ void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<
   Crossover paper, faster, vulkanPaper;
   bool byDevice = true;
   for (const std::pair<int, int>& size : sizes) {
-    const int width = size.first, height = size.second;  // not a structured binding: lambdas capture them
+    const int width = size.first, height = size.second;  // not a structured binding: clang before 16 cannot capture one
     render::RenderOptions options;
     options.width = width;
     options.height = height;

@@ -50,11 +50,11 @@ struct VsaOptions {
   /// Stop as soon as the partition's error (the metric's sum over faces, VsaPartition::error) is
   /// at most this; 0: no target. For timing a run to a peer's error (bench_geotex against CGAL).
   double targetError = 0;
-  /// Region teleportation (the paper's section 3.3) where the iterations settle: the two
-  /// neighbouring regions whose merge adds the least error become one, and the proxy this frees
-  /// starts again at the worst face of the region of largest error; the iterations go on from
-  /// there and the best partition seen is kept. At most this many; 0: none. A teleport is made only
-  /// when the merge costs less than half the worst region's error, as in the paper.
+  /// Region teleportation (the paper's section 3.3) where the iterations settle: the cheapest
+  /// merges of two neighbouring regions each free a proxy that starts again at the worst face of
+  /// one of the regions of largest error (a tenth of the proxies at once); the iterations go on
+  /// from there and the best partition seen is kept. A teleport is made only where its merge costs
+  /// less than half that region's error, as in the paper. At most this many in all; 0: none.
   int teleports = 0;
   /// Called with the fraction done (seeding counts as the first half).
   std::function<void(double)> progress;
