@@ -203,11 +203,6 @@ TEST(Vsa, BunnyTwoHundredProxies) {
   EXPECT_LT(meanDeviation, cellrelief::test::kSlowBuild ? 0.25 : 0.1);
 }
 
-}  // namespace
-}  // namespace cellrelief::geotex
-
-namespace cellrelief::geotex {
-namespace {
 
 // The closed forms a teleport prices merges with (L2,1: 2 (A - |sum A n|); L2: the covariance's
 // smallest eigenvalue) against the face-by-face sum against the fitted proxy, on a real mesh cut
@@ -232,20 +227,21 @@ TEST(Vsa, RegionFitsFromMomentsGiveTheFaceSums) {
       if (r == 1) r = 0;
     const std::pair<const detail::RegionMoments*, std::uint32_t> cases[] = {{&m[2], 2}, {&m[3], 3}, {&both, 0}};
     for (const auto& [moments, region] : cases) {
+      const auto faceSum = [&, r = region](const Proxy& proxy) {
+        double sum = 0;
+        for (std::size_t f = 0; f < g.faceCount(); ++f)
+          if (regions[f] == r) sum += detail::faceError(mesh, g, metric, f, proxy);
+        return sum;
+      };
       const detail::Fit fit = detail::fitRegion(*moments, metric, p.proxies[region]);
-      double sum = 0;
-      for (std::size_t f = 0; f < g.faceCount(); ++f)
-        if (regions[f] == region) sum += detail::faceError(mesh, g, metric, f, fit.proxy);
+      const double sum = faceSum(fit.proxy);
       EXPECT_NEAR(fit.error, sum, 1e-9 * moments->area + 1e-6 * sum) << "region " << region;
       EXPECT_GT(sum, 0);
       // And the fit is the best: a proxy turned by a degree (and moved, for L2) fits worse.
       Proxy turned = fit.proxy;
       turned.normal = glm::normalize(turned.normal + 0.0175 * glm::normalize(glm::cross(turned.normal, Vec3d(0.3, 0.5, 0.8))));
       turned.point += 0.01 * Vec3d(mesh.bounds().diagonal());
-      double turnedSum = 0;
-      for (std::size_t f = 0; f < g.faceCount(); ++f)
-        if (regions[f] == region) turnedSum += detail::faceError(mesh, g, metric, f, turned);
-      EXPECT_GT(turnedSum, sum) << "region " << region;
+      EXPECT_GT(faceSum(turned), sum) << "region " << region;
     }
   }
 }

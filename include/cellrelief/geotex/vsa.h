@@ -372,6 +372,23 @@ inline void evaluate(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric met
   for (const double e : s.errorOfFace) s.error += e;
 }
 
+/// Each region's error (the sum over its faces) and its worst face, where a new proxy splits it.
+/// On ties the last such face, so that a region of equal errors (a proxy midway between two
+/// planes) still splits away from its seed, which is the first face of least error.
+struct RegionErrors {
+  std::vector<double> error;
+  std::vector<std::uint32_t> worstFace;
+};
+inline RegionErrors regionErrors(const FaceGraph& g, const LloydState& s) {
+  RegionErrors e{std::vector<double>(s.proxies.size(), 0), std::vector<std::uint32_t>(s.proxies.size(), kInvalidId)};
+  for (std::uint32_t f = 0; f < g.faceCount(); ++f) {
+    const std::uint32_t r = s.regionOfFace[f];
+    e.error[r] += s.errorOfFace[f];
+    if (e.worstFace[r] == kInvalidId || s.errorOfFace[f] >= s.errorOfFace[e.worstFace[r]]) e.worstFace[r] = f;
+  }
+  return e;
+}
+
 /// One Lloyd iteration: flood from the current regions' best faces, then refit and re-evaluate.
 inline void lloydIteration(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric, LloydState& s) {
   const auto seeds = regionSeeds(s.errorOfFace, s.regionOfFace, s.proxies.size());
@@ -420,16 +437,9 @@ inline LloydState hierarchicalSeeds(const TriangleMesh& mesh, const FaceGraph& g
   constexpr int kRelaxationsPerRound = 3;
   while (s.proxies.size() < k) {
     const std::size_t add = std::min(k - s.proxies.size(), std::max<std::size_t>(1, s.proxies.size() / 2));
-    std::vector<double> regionError(s.proxies.size(), 0);
-    for (std::size_t f = 0; f < g.faceCount(); ++f) regionError[s.regionOfFace[f]] += s.errorOfFace[f];
-    // The worst face of each region: a new proxy there splits the region. On ties the last such
-    // face, so that a region of equal errors (a proxy midway between two planes) still splits
-    // away from its seed, which is the first face of least error.
-    std::vector<std::uint32_t> worst(s.proxies.size(), kInvalidId);
-    for (std::uint32_t f = 0; f < g.faceCount(); ++f) {
-      const std::uint32_t r = s.regionOfFace[f];
-      if (worst[r] == kInvalidId || s.errorOfFace[f] >= s.errorOfFace[worst[r]]) worst[r] = f;
-    }
+    RegionErrors errors = regionErrors(g, s);
+    std::vector<double>& regionError = errors.error;
+    const std::vector<std::uint32_t>& worst = errors.worstFace;
     auto nextSeeds = regionSeeds(s.errorOfFace, s.regionOfFace, s.proxies.size());
     std::size_t added = 0;
     for (std::size_t attempt = 0; attempt < regionError.size() && added < add; ++attempt) {
@@ -474,17 +484,12 @@ inline std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbouringRegions(
 inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metric, LloydState& s, int count) {
   const std::size_t k = s.proxies.size();
   const std::vector<RegionMoments> moments = regionMoments(mesh, g, metric, s.regionOfFace, k);
-  std::vector<double> regionError(k, 0);
-  for (std::size_t f = 0; f < g.faceCount(); ++f) regionError[s.regionOfFace[f]] += s.errorOfFace[f];
-  // Each region's worst face (the last on ties, as the hierarchical seeding splits); a region
-  // whose worst face is where its own flooding starts has nothing to split.
-  std::vector<std::uint32_t> worstFace(k, kInvalidId);
-  for (std::uint32_t f = 0; f < g.faceCount(); ++f) {
-    const std::uint32_t r = s.regionOfFace[f];
-    if (worstFace[r] == kInvalidId || s.errorOfFace[f] >= s.errorOfFace[worstFace[r]]) worstFace[r] = f;
-  }
+  const RegionErrors errors = regionErrors(g, s);
+  const std::vector<double>& regionError = errors.error;  // a reference, not a binding: lambdas capture it
+  const std::vector<std::uint32_t>& worstFace = errors.worstFace;
   std::vector<std::uint32_t> seeds = regionSeeds(s.errorOfFace, s.regionOfFace, k);
-  // Regions already exact (to rounding) gain nothing from a proxy more.
+  // A region whose worst face is where its own flooding starts has nothing to split, and regions
+  // already exact (to rounding) gain nothing from a proxy more.
   const double negligible = 1e-12 * s.error;
   std::vector<std::uint32_t> worst;
   for (std::uint32_t r = 0; r < k; ++r)
@@ -500,6 +505,8 @@ inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metr
     std::uint32_t kept, freed;
     Fit fit;
   };
+  std::vector<double> fittedError(k);  // each region's own, as the merges' costs subtract it
+  for (std::uint32_t r = 0; r < k; ++r) fittedError[r] = fitRegion(moments[r], metric, s.proxies[r]).error;
   std::vector<Merge> merges;
   for (const auto& [a, b] : neighbouringRegions(g, s.regionOfFace)) {
     if (busy[a] || busy[b]) continue;
@@ -507,15 +514,15 @@ inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metr
     both += moments[b];
     const Fit fit = fitRegion(both, metric, s.proxies[a]);
     // Never below 0 (a merge cannot lower the error; rounding in the difference can).
-    const double cost = fit.error - fitRegion(moments[a], metric, s.proxies[a]).error -
-                        fitRegion(moments[b], metric, s.proxies[b]).error;
-    merges.push_back({std::max(0.0, cost), a, b, fit});
+    merges.push_back({std::max(0.0, fit.error - fittedError[a] - fittedError[b]), a, b, fit});
   }
   std::sort(merges.begin(), merges.end(), [](const Merge& x, const Merge& y) {
     return x.cost != y.cost ? x.cost < y.cost : std::pair(x.kept, x.freed) < std::pair(y.kept, y.freed);
   });
   int made = 0;
   std::vector<std::uint32_t> freedFor(k, kInvalidId);  // region merged away -> the worst region it serves
+  std::vector<std::uint32_t> mergedInto(k);            // each region's after the merges
+  for (std::uint32_t r = 0; r < k; ++r) mergedInto[r] = r;
   auto next = merges.begin();
   for (const std::uint32_t target : worst) {
     while (next != merges.end() && (busy[next->kept] || busy[next->freed])) ++next;
@@ -525,11 +532,11 @@ inline int teleport(const TriangleMesh& mesh, const FaceGraph& g, VsaMetric metr
     const std::uint32_t f = worstFace[target];
     s.proxies[next->freed] = {g.centroid[f], g.area[f] > 0 ? g.normal[f] : Vec3d(0, 0, 1)};
     freedFor[next->freed] = target;
-    for (std::uint32_t& r : s.regionOfFace)
-      if (r == next->freed) r = next->kept;
+    mergedInto[next->freed] = next->kept;
     ++made;
   }
   if (made == 0) return 0;
+  for (std::uint32_t& r : s.regionOfFace) r = mergedInto[r];
   evaluate(mesh, g, metric, s);
   seeds = regionSeeds(s.errorOfFace, s.regionOfFace, k);
   for (std::uint32_t r = 0; r < k; ++r)
