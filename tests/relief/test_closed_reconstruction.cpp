@@ -184,7 +184,8 @@ TEST(ClosedReconstruction, AutoKeepsPerFaceForOpenInputs) {
 // cross the surface twice; conversion's default centre (fewest-crossings) moves the centre of
 // projection until no sampled line does, which brought fertility's genus from 50 to its input's
 // 4, spot's from 76 to 0 and pensatore's 3 components to 1 (docs/relief.md). The knight keeps 2
-// extra handles where, after the search, some sampled lines still cross twice.
+// extra handles at parts thinner than 2 lattice spacings, where even the exact inside/outside
+// sampled on the same lattice gains handles at most spacings (docs/relief.md).
 struct ClosedCase {
   const char* path;
   int maxExtraGenus = 0;         ///< 0: the input's genus (the goal)
