@@ -31,8 +31,9 @@
 
 #include "../common/plot_script.h"
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::backends_program {
 
 namespace {
 
@@ -126,7 +127,7 @@ std::size_t countHits(const render::Frame& f) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"One scene on every backend: Mrays/s, agreement with the CPU reference, scene bytes", "bench_backends"};
   bench::BenchOptions options;
   options.threads = 2;
@@ -278,3 +279,5 @@ int main(int argc, char** argv) {
               csv.path().c_str(), plotted ? " (plot: " : "", plotted ? png.c_str() : "", plotted ? ")" : "");
   return 0;
 }
+
+}  // namespace cellrelief::bench::backends_program

@@ -16,10 +16,11 @@
 #include <cellrelief/io/mesh_io.h>
 
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::cells_program {
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"Cell complex classification versus OpenVDB meshToLevelSet", "bench_cells"};
   bench::BenchOptions options;
   options.addTo(app);
@@ -75,3 +76,5 @@ int main(int argc, char** argv) {
   std::printf("wrote %s\n", csv.path().c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::cells_program

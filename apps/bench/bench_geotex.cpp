@@ -44,9 +44,10 @@
 #endif
 
 #include "bench_common.h"
+#include "bench_programs.h"
 #include "../common/plot_script.h"
 
-namespace cellrelief::bench {
+namespace cellrelief::bench::geotex_program {
 namespace {
 
 struct MeshEntry {
@@ -400,12 +401,10 @@ void figure7(const std::string& name, const TriangleMesh& mesh, std::shared_ptr<
 }
 
 }  // namespace
-}  // namespace cellrelief::bench
 
-int main(int argc, char** argv) {
-  using namespace cellrelief;
+int run(int argc, char** argv) {
   CLI::App app{"bench_geotex: geometry textures against CGAL's VSA, the cell complex and Embree"};
-  bench::BenchOptions o;
+  BenchOptions o;
   o.addTo(app);
   bool figure7Loop = false;
   std::string figure7Sizes;
@@ -422,7 +421,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   const auto section = [&](const char* name) { return std::find(sections.begin(), sections.end(), name) != sections.end(); };
   std::vector<std::pair<int, int>> sizes;
-  if (const auto parsed = bench::parseFrameSizes(figure7Sizes)) {
+  if (const auto parsed = parseFrameSizes(figure7Sizes)) {
     sizes = *parsed;
   } else {
     std::fprintf(stderr, "bench_geotex: --figure7-sizes '%s': expected WxH[,WxH...] with sides from 1 to 16384\n",
@@ -436,11 +435,11 @@ int main(int argc, char** argv) {
   const ThreadLimit threads(std::size_t(o.threads));
   const std::filesystem::path out(o.out);
   const int size = o.quick ? 128 : 512, repeats = o.quick ? 1 : 3;
-  const auto wanted = [&](const bench::MeshEntry& m) { return !o.quick || std::string(m.name) == "fertility_9k"; };
+  const auto wanted = [&](const MeshEntry& m) { return !o.quick || std::string(m.name) == "fertility_9k"; };
   std::vector<std::filesystem::path> written;
 
   if (section("vsa")) {
-    bench::CsvWriter vsaCsv(out / "geotex_vsa.csv",
+    CsvWriter vsaCsv(out / "geotex_vsa.csv",
                             "mesh,triangles,proxies,iterations,ours_seconds,ours_l21_per_area,ours_farthest_seconds,"
                             "ours_farthest_l21_per_area,cgal_proxies,cgal_seconds,cgal_l21_per_area,"
                             "ours_to_cgal_seconds,ours_to_cgal_l21_per_area,ours_farthest_to_cgal_seconds,"
@@ -449,14 +448,14 @@ int main(int argc, char** argv) {
                 "ours seeded hierarchically (as CGAL) and by farthest points, each with its speed-up over CGAL and its "
                 "error over CGAL's; then ours run until CGAL's error (at most %d iterations, teleporting regions where "
                 "they settle): time and speed-up at equal error, or the error ratio where not reached\n",
-                bench::kIterationsToTarget);
+                kIterationsToTarget);
     std::printf("%-13s %8s %5s | %-31s | %-31s | %-17s | %-19s %-19s\n", "mesh", "faces", "K",
                 "ours, hierarchical: s L21 x err", "ours, farthest-point: s L21 x err", "CGAL: s L21",
                 "to CGAL's: hier.", "farthest");
-    for (const bench::MeshEntry& m : bench::kMeshes) {
+    for (const MeshEntry& m : kMeshes) {
       if (!wanted(m)) continue;
       const TriangleMesh mesh = io::readMesh(std::filesystem::path(o.data) / m.path);
-      for (const int k : o.quick ? std::vector<int>{50} : std::vector<int>{50, 200}) bench::compareVsa(m.name, mesh, k, 20, vsaCsv);
+      for (const int k : o.quick ? std::vector<int>{50} : std::vector<int>{50, 200}) compareVsa(m.name, mesh, k, 20, vsaCsv);
     }
     written.push_back(vsaCsv.path());
   }
@@ -468,21 +467,21 @@ int main(int argc, char** argv) {
   };
   std::vector<Measured> measured;
   if (section("representations") || section("tables") || section("figure7"))
-    for (const bench::MeshEntry& m : bench::kMeshes)
+    for (const MeshEntry& m : kMeshes)
       if (wanted(m)) measured.push_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
   if (section("representations")) {
-    bench::CsvWriter reprCsv(out / "geotex_representation.csv",
+    CsvWriter reprCsv(out / "geotex_representation.csv",
                              "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
                              "depth_p99_diag,disagreement,steps_per_hit_ray,mrays_per_s,embree_mrays_per_s");
     std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
                 "bytes); surface error of the reconstructions against the mesh (200,000 points a side, %% of the "
                 "diagonal); %d x %d primary rays, CPU backend against Embree\n",
                 size, size);
-    for (Measured& m : measured) m.charts = bench::compareRepresentations(m.name, m.mesh, size, repeats, reprCsv);
+    for (Measured& m : measured) m.charts = compareRepresentations(m.name, m.mesh, size, repeats, reprCsv);
     written.push_back(reprCsv.path());
   }
   if (section("tables")) {
-    bench::CsvWriter chartsCsv(out / "geotex_chart_counts.csv",
+    CsvWriter chartsCsv(out / "geotex_chart_counts.csv",
                                "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
                                "empty_texel_share,bytes,rms_diag,hausdorff_diag,depth_median_diag,depth_p99_diag,"
                                "disagreement,mrays_per_s");
@@ -494,7 +493,7 @@ int main(int argc, char** argv) {
                 "CPU");
     for (const Measured& m : measured)
       if (m.name == tableMesh)
-        bench::chartCountTable(m.name, m.mesh, o.quick ? std::vector<int>{25, 50} : std::vector<int>{25, 50, 100, 200, 400},
+        chartCountTable(m.name, m.mesh, o.quick ? std::vector<int>{25, 50} : std::vector<int>{25, 50, 100, 200, 400},
                                size, repeats, chartsCsv);
     written.push_back(chartsCsv.path());
   }
@@ -503,25 +502,25 @@ int main(int argc, char** argv) {
     // bytes), else 200 charts at the default maps.
     if (!section("representations")) std::printf("\nFig. 7's charts: 200 proxies, maps up to 128 texels\n");
     for (Measured& m : measured)
-      if (!m.charts) m.charts = bench::defaultCharts(m.name, m.mesh);
+      if (!m.charts) m.charts = defaultCharts(m.name, m.mesh);
     if (figure7Loop) {
       // The same surface with 4x the triangles: the rasterizer's cost grows, the charts' hardly.
       const auto read = std::find_if(measured.begin(), measured.end(), [](const Measured& m) { return m.name == "igea"; });
-      const auto entry = std::find_if(std::begin(bench::kMeshes), std::end(bench::kMeshes),
-                                      [](const bench::MeshEntry& m) { return std::string(m.name) == "igea"; });
-      TriangleMesh loop1 = read != measured.end() ? bench::loopSubdivide(read->mesh)
-                                                  : bench::loopSubdivide(io::readMesh(std::filesystem::path(o.data) / entry->path));
+      const auto entry = std::find_if(std::begin(kMeshes), std::end(kMeshes),
+                                      [](const MeshEntry& m) { return std::string(m.name) == "igea"; });
+      TriangleMesh loop1 = read != measured.end() ? loopSubdivide(read->mesh)
+                                                  : loopSubdivide(io::readMesh(std::filesystem::path(o.data) / entry->path));
       Measured& subdivided = measured.emplace_back(Measured{"igea_loop1", std::move(loop1), {}});
-      subdivided.charts = bench::defaultCharts(subdivided.name, subdivided.mesh);
+      subdivided.charts = defaultCharts(subdivided.name, subdivided.mesh);
     }
-    bench::CsvWriter figureCsv(out / "geotex_fig7.csv",
+    CsvWriter figureCsv(out / "geotex_fig7.csv",
                                "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
                                "compute_wall_s,vulkan_raycast_device_s,vulkan_raycast_wall_s,raster_device_s,raster_wall_s");
     std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) from their rasterized boxes, "
                 "against the same cast by a compute pass over every pixel, by Vulkan from the boxes, and the full mesh "
                 "rasterized by OpenGL; median of %d frames, each read back; device time where the driver times it\n",
                 repeats);
-    for (const Measured& m : measured) bench::figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
+    for (const Measured& m : measured) figure7(m.name, m.mesh, m.charts, sizes, repeats, figureCsv);
     app::drawPlot("plot_geotex_fig7", figureCsv.path(), out / "geotex_fig7.png");
     written.push_back(figureCsv.path());
   }
@@ -530,3 +529,5 @@ int main(int argc, char** argv) {
   std::printf("\n");
   return 0;
 }
+
+}  // namespace cellrelief::bench::geotex_program

@@ -23,7 +23,7 @@
 #include <cellrelief/indirection/distortion.h>
 #include <cellrelief/indirection/optimizer_table.h>
 
-namespace cellrelief::bench {
+namespace cellrelief::bench::indirection_program {
 namespace {
 
 using namespace indirection;
@@ -86,11 +86,8 @@ struct Row {
 };
 
 }  // namespace
-}  // namespace cellrelief::bench
 
-int main(int argc, char** argv) {
-  using namespace cellrelief;
-  using namespace cellrelief::bench;
+int run(int argc, char** argv) {
   CLI::App app("Indirection optimizers against the paper's springs, with CGAL's LSCM, DCP and "
                "ARAP on the same grid as reference points");
   std::string data = CELLRELIEF_DATA_DIR, out = "out/bench";
@@ -180,3 +177,5 @@ int main(int argc, char** argv) {
     return 1;
   }
 }
+
+}  // namespace cellrelief::bench::indirection_program

@@ -20,8 +20,9 @@
 #include <cellrelief/polycube/parameterization.h>
 
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::polycube_program {
 
 namespace {
 
@@ -49,7 +50,7 @@ void printRow(const std::string& mesh, std::size_t triangles, std::size_t cubes,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"PolyCube-Maps distortion (the paper's Table 1) beside CGAL's LSCM and DCP", "bench_polycube"};
   bench::BenchOptions options;
   options.addTo(app);
@@ -105,3 +106,5 @@ int main(int argc, char** argv) {
               "wrote %s\n", csv.path().c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::polycube_program

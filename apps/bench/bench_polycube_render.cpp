@@ -21,10 +21,11 @@
 #include <cellrelief/polycube/parameterization.h>
 
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::polycube_render_program {
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"PolyCube-Maps texturing: frame time textured over untextured, per backend", "bench_polycube_render"};
   bench::BenchOptions options;
   options.addTo(app);
@@ -111,3 +112,5 @@ int main(int argc, char** argv) {
               "traversal; the texturing's share is what the ratio shows.\nwrote %s\n", csv.path().c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::polycube_render_program

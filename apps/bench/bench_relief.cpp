@@ -19,8 +19,9 @@
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::relief_program {
 
 namespace {
 
@@ -56,7 +57,7 @@ LevelSetPoint measureLevelSet(const TriangleMesh& mesh, const metrics::DistanceF
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"Relief conversion: time, memory, error; OpenVDB level sets at matched error",
                "bench_relief"};
   bench::BenchOptions options;
@@ -141,3 +142,5 @@ int main(int argc, char** argv) {
   std::printf("wrote %s\n", csv.path().c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::relief_program

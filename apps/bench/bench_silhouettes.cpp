@@ -29,8 +29,9 @@
 #include <cellrelief/trace/relief_tracer.h>
 
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::silhouettes_program {
 
 namespace {
 
@@ -153,7 +154,7 @@ void print(const std::string& name, const relief::ReliefModel& model, const Tall
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"Where the relief tracer and Embree disagree on hit or miss, and how near the surface", "bench_silhouettes"};
   bench::BenchOptions options;
   options.threads = 2;
@@ -208,3 +209,5 @@ int main(int argc, char** argv) {
               "silhouettes_<mesh>_<yaw>.png to %s\n", 1e6 * double(total) / double(totalRays), options.out.c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::silhouettes_program

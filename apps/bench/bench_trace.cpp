@@ -32,8 +32,9 @@
 
 #include "../common/plot_script.h"
 #include "bench_common.h"
+#include "bench_programs.h"
 
-using namespace cellrelief;
+namespace cellrelief::bench::trace_program {
 
 namespace {
 
@@ -194,7 +195,7 @@ double bytesOnCurve(const std::vector<MemoryPoint>& front, double error) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"Relief ray casting: run time against error; Embree and OpenVDB peers", "bench_trace"};
   bench::BenchOptions options;
   options.threads = 2;
@@ -402,3 +403,5 @@ int main(int argc, char** argv) {
   if (plotted) std::printf("plots: %s and %s\n", png.c_str(), memoryPng.c_str());
   return 0;
 }
+
+}  // namespace cellrelief::bench::trace_program

@@ -353,7 +353,8 @@ TEST(Cli, RenderWritesTheImageAndItsBuffersAndRefusesBadInput) {
       {"render " + spot.string() + " -o x.png --backend metal", "valid: auto, cpu, opengl, vulkan"},
       {"render " + spot.string() + " -o x.png --backend vulkan --device no-such-gpu-42", "no-such-gpu-42"},
       {"render " + spot.string() + " -o x.png --backend cpu --device llvmpipe", "is not Vulkan"},
-      {"bench nosuch", "no such benchmark"}};
+      {"bench nosuch", "no such benchmark"},
+      {"bench nosuch", "built here:"}};
   for (const auto& [args, words] : cases) {
     const Result r = run(args);
     EXPECT_EQ(r.status, 1) << args << ": " << r.output;
