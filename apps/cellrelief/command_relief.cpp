@@ -145,11 +145,11 @@ int runReconstruct(const ReconstructCli& o) {
   const relief::ReliefModel model = relief::readRelief(o.model);
   const TriangleMesh mesh = relief::reconstruct(model, {o.lod, o.method});
   io::writeMesh(mesh, o.output);
-  const MeshTopology topology = analyzeTopology(mesh);
+  const std::size_t boundaryEdges = countBoundaryEdges(mesh);
   std::printf("reconstructed %zu triangles, %zu vertices at level of detail %d (max %d), %s, %zu boundary "
               "edges; wrote %s\n",
               mesh.triangleCount(), mesh.vertexCount(), o.lod, relief::maxLevelOfDetail(model),
-              topology.closed() ? "closed" : "open", topology.boundaryEdges, o.output.c_str());
+              boundaryEdges == 0 ? "closed" : "open", boundaryEdges, o.output.c_str());
   if (!o.preview.empty()) {
     writePreview(mesh, o.preview);
     std::printf("wrote         %s\n", o.preview.c_str());

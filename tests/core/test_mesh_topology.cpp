@@ -51,6 +51,27 @@ TEST(MeshTopology, ThreeTrianglesOnOneEdge) {
   EXPECT_EQ(t.nonManifoldVertices, 0u);  // counted under the edge only
 }
 
+// The boundary count alone (countBoundaryEdges) is the full analysis's, on every mesh here: closed,
+// open, a hole cut, an edge of three triangles, a repeated index.
+TEST(MeshTopology, TheBoundaryCountAloneIsTheAnalysisOne) {
+  TriangleMesh holed = makeIcosphere(2);
+  holed.triangles.erase(holed.triangles.begin() + 3, holed.triangles.begin() + 9);
+  const std::vector<TriangleMesh> meshes = {
+      makeIcosphere(3), makeTorus(2, 0.5f, 24, 12), holed,
+      soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}),
+      soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}}, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}),
+      soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 0, 1}})};
+  // By hand (the hole's count only by the analysis): the repeated index's edge {0, 1} is used three
+  // times, so only the first triangle's other two edges are boundary.
+  constexpr std::size_t kByAnalysis = ~std::size_t(0);
+  const std::size_t expected[] = {0, 0, kByAnalysis, 3, 6, 2};
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    EXPECT_EQ(countBoundaryEdges(meshes[i]), analyzeTopology(meshes[i]).boundaryEdges) << "mesh " << i;
+    if (expected[i] != kByAnalysis) EXPECT_EQ(countBoundaryEdges(meshes[i]), expected[i]) << "mesh " << i;
+  }
+  EXPECT_GT(countBoundaryEdges(holed), 0u);
+}
+
 TEST(MeshTopology, FlippedTriangleIsMisoriented) {
   TriangleMesh m = makeIcosphere(1);
   std::swap(m.triangles[0][0], m.triangles[0][1]);

@@ -23,6 +23,8 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/parallel_sort.h>
+
 #include "cellrelief/core/triangle_mesh.h"
 #include "cellrelief/core/union_find.h"
 
@@ -221,6 +223,30 @@ inline std::vector<std::pair<std::uint32_t, std::uint32_t>> boundaryEdges(const 
     i = j;
   }
   return once;
+}
+
+/// The boundary edges (used by exactly one triangle) as analyzeTopology counts them, without the
+/// rest of its analysis: one parallel sort of the packed edge keys. For checks that need only
+/// this, e.g. whether a reconstruction came out closed (about a quarter of `cellrelief
+/// reconstruct`'s time went to the full analysis of a 4.8M-triangle result).
+inline std::size_t countBoundaryEdges(const TriangleMesh& mesh) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(3 * mesh.triangles.size());
+  for (const Vec3u& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = t[k], q = t[(k + 1) % 3];
+      if (p == q) continue;  // a repeated index makes no edge
+      keys.push_back(std::uint64_t(std::min(p, q)) << 32 | std::max(p, q));
+    }
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::size_t boundary = 0;
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    boundary += j - i == 1;
+    i = j;
+  }
+  return boundary;
 }
 
 }  // namespace cellrelief

@@ -188,7 +188,7 @@ inline TriangleMesh reconstruct(const ReliefModel& model, const ReconstructOptio
   }
   const double ratio = surfaceArea(closed) / surfaceArea(perFace);
   if (!(ratio >= kMinClosedAreaRatio && ratio <= kMaxClosedAreaRatio)) return perFace;
-  if (analyzeTopology(closed).boundaryEdges != 0) return perFace;
+  if (countBoundaryEdges(closed) != 0) return perFace;
   return closed;
 }
 
