@@ -440,10 +440,10 @@ int run(int argc, char** argv) {
 
   if (section("vsa")) {
     CsvWriter vsaCsv(out / "geotex_vsa.csv",
-                            "mesh,triangles,proxies,iterations,ours_seconds,ours_l21_per_area,ours_farthest_seconds,"
-                            "ours_farthest_l21_per_area,cgal_proxies,cgal_seconds,cgal_l21_per_area,"
-                            "ours_to_cgal_seconds,ours_to_cgal_l21_per_area,ours_farthest_to_cgal_seconds,"
-                            "ours_farthest_to_cgal_l21_per_area");
+                     "mesh,triangles,proxies,iterations,ours_seconds,ours_l21_per_area,ours_farthest_seconds,"
+                     "ours_farthest_l21_per_area,cgal_proxies,cgal_seconds,cgal_l21_per_area,"
+                     "ours_to_cgal_seconds,ours_to_cgal_l21_per_area,ours_farthest_to_cgal_seconds,"
+                     "ours_farthest_to_cgal_l21_per_area");
     std::printf("VSA, L2,1 error per unit area (all partitions scored alike), at most 20 iterations after seeding; "
                 "ours seeded hierarchically (as CGAL) and by farthest points, each with its speed-up over CGAL and its "
                 "error over CGAL's; then ours run until CGAL's error (at most %d iterations, teleporting regions where "
@@ -471,8 +471,8 @@ int run(int argc, char** argv) {
       if (wanted(m)) measured.push_back(Measured{m.name, io::readMesh(std::filesystem::path(o.data) / m.path), {}});
   if (section("representations")) {
     CsvWriter reprCsv(out / "geotex_representation.csv",
-                             "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
-                             "depth_p99_diag,disagreement,steps_per_hit_ray,mrays_per_s,embree_mrays_per_s");
+                      "mesh,representation,convert_seconds,bytes,rms_diag,hausdorff_diag,depth_median_diag,"
+                      "depth_p99_diag,disagreement,steps_per_hit_ray,mrays_per_s,embree_mrays_per_s");
     std::printf("\nRepresentations at about equal bytes (geotex: 200 charts, the map size nearest the cell complex's "
                 "bytes); surface error of the reconstructions against the mesh (200,000 points a side, %% of the "
                 "diagonal); %d x %d primary rays, CPU backend against Embree\n",
@@ -482,9 +482,9 @@ int run(int argc, char** argv) {
   }
   if (section("tables")) {
     CsvWriter chartsCsv(out / "geotex_chart_counts.csv",
-                               "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
-                               "empty_texel_share,bytes,rms_diag,hausdorff_diag,depth_median_diag,depth_p99_diag,"
-                               "disagreement,mrays_per_s");
+                        "mesh,triangles,proxies,charts,convert_seconds,l21_per_area,folded_charts,folded_faces,"
+                        "empty_texel_share,bytes,rms_diag,hausdorff_diag,depth_median_diag,depth_p99_diag,"
+                        "disagreement,mrays_per_s");
     const char* tableMesh = o.quick ? "fertility_9k" : "bunny";
     std::printf("\nThe VSA columns of the paper's Tables 2 and 3, on the %s: K charts (maps up to 128 texels), "
                 "%d x %d primary rays on the CPU backend against Embree\n", tableMesh, size, size);
@@ -494,7 +494,7 @@ int run(int argc, char** argv) {
     for (const Measured& m : measured)
       if (m.name == tableMesh)
         chartCountTable(m.name, m.mesh, o.quick ? std::vector<int>{25, 50} : std::vector<int>{25, 50, 100, 200, 400},
-                               size, repeats, chartsCsv);
+                        size, repeats, chartsCsv);
     written.push_back(chartsCsv.path());
   }
   if (section("figure7")) {
@@ -514,8 +514,8 @@ int run(int argc, char** argv) {
       subdivided.charts = defaultCharts(subdivided.name, subdivided.mesh);
     }
     CsvWriter figureCsv(out / "geotex_fig7.csv",
-                               "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
-                               "compute_wall_s,vulkan_raycast_device_s,vulkan_raycast_wall_s,raster_device_s,raster_wall_s");
+                        "mesh,triangles,width,height,raycast_device_s,raycast_wall_s,compute_device_s,"
+                        "compute_wall_s,vulkan_raycast_device_s,vulkan_raycast_wall_s,raster_device_s,raster_wall_s");
     std::printf("\nFig. 7: frame time of the charts ray cast by OpenGL (colour, no shadows) from their rasterized boxes, "
                 "against the same cast by a compute pass over every pixel, by Vulkan from the boxes, and the full mesh "
                 "rasterized by OpenGL; median of %d frames, each read back; device time where the driver times it\n",

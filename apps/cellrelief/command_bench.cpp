@@ -2,8 +2,9 @@
 /// @file command_bench.cpp
 /// `cellrelief bench <name> [options]`: runs the benchmark program bench_<name> that sits beside
 /// this executable (apps/bench: cells, relief, trace, silhouettes, backends, polycube_render, and
-/// with CGAL geotex, polycube, indirection), passing the options through. The benchmarks are separate programs because they link the peers they
-/// compare against (Embree, OpenVDB's level-set tools), which the command line itself does not need.
+/// with CGAL geotex, polycube, indirection), passing the options through. The benchmarks are
+/// separate programs because they link the peers they compare against (Embree, OpenVDB's level-set
+/// tools, CGAL), which the command line itself does not need.
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
