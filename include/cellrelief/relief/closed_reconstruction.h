@@ -18,7 +18,9 @@
 ///   the neighbour's color disagrees closes in that neighbour's first layer of cubes;
 /// - vertices are welded by lattice edge, never by position.
 /// The result is then a closed, oriented 2-manifold by construction (a regular level set of a
-/// piecewise-linear field); its genus is the field's.
+/// piecewise-linear field); its genus is the field's, less the handles a single lattice point
+/// makes, which are removed before polygonizing (closed_lattice.h): a part thinner than a lattice
+/// spacing is sampled porous, and each pore is such a handle.
 ///
 /// Accuracy: in parallel and planar cells the lattice points project onto the samples exactly; in
 /// central ones the distance is filtered bilinearly. At the rim of a face's covered samples a
@@ -45,6 +47,7 @@
 #include "cellrelief/core/parallel.h"
 #include "cellrelief/core/triangle_mesh.h"
 #include "cellrelief/core/union_find.h"
+#include "cellrelief/relief/closed_lattice.h"
 #include "cellrelief/relief/relief_model.h"
 
 namespace cellrelief::relief {
@@ -155,7 +158,7 @@ class CellColors {
 /// The signed field of one grey cell at lattice points, positive inside (the tracer's sign and
 /// rule). Interior cells (case 0) read it as the tracer does, misreads included: a line whose face
 /// point lies on the centre's side is taken to start on the other side, which makes the spurious
-/// handles measured in docs/relief.md; the remedy belongs in the conversion.
+/// handles measured in docs/relief.md; conversion's choice of centre removes most of them.
 class CellField {
  public:
   CellField(const ReliefModel& model, int step) : mModel(model), mCubes((model.texels - 1) / step) {}
@@ -284,6 +287,22 @@ inline float latticeValue(const CellField& field, const CellNeighbourhood& n, co
   return value;
 }
 
+/// Every polygonized cell's lattice values (latticeValue), in parallel.
+inline void sampleLattice(const CellField& field, const CellColors& colors,
+                          LatticeBlocks& lattice) {
+  const int m = field.cubes();
+  parallelForRange(0, lattice.blockCount(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) {
+      const CellNeighbourhood n = colors.neighbourhood(lattice.cell(b));
+      float* values = lattice.block(b);
+      for (int c = 0; c <= m; ++c)
+        for (int y = 0; y <= m; ++y)
+          for (int a = 0; a <= m; ++a)
+            values[lattice.index(0, {a, y, c})] = latticeValue(field, n, {a, y, c});
+    }
+  }, 1);  // a block is thousands of points: TBB splits down to one
+}
+
 /// How far (lattice spacings) a vertex may move onto the stored surface: farther, the cell's
 /// projection line meets another sheet than the one the field crossed.
 inline constexpr double kMaxSnapSpacings = 1.5;
@@ -387,17 +406,13 @@ inline std::optional<Vec3d> snapToSurface(const ReliefModel& model, const CellFi
   return sum / double(count);
 }
 
-/// Polygonizes the cubes of the cell at the centre of n.
+/// Polygonizes the cubes of the cell at the centre of n, whose lattice values are `values`
+/// (LatticeBlocks' layout).
 inline void polygonizeCell(const ReliefModel& model, const CellField& field, const SignalLookup& signals,
-                           const CellNeighbourhood& n, std::vector<float>& values,
+                           const CellNeighbourhood& n, const float* values,
                            std::unordered_map<std::uint64_t, std::uint32_t>& vertexOf, ClosedPart& part) {
   const int m = field.cubes(), s = m + 1;
-  values.resize(std::size_t(s) * s * s);
   auto flat = [s](int a, int b, int c) { return (std::size_t(c) * s + std::size_t(b)) * s + std::size_t(a); };
-  for (int c = 0; c <= m; ++c)
-    for (int b = 0; b <= m; ++b)
-      for (int a = 0; a <= m; ++a) values[flat(a, b, c)] = latticeValue(field, n, {a, b, c});
-
   vertexOf.clear();
   const Vec3i base = n.ijk * m;  // the cell's first lattice point, globally
   const double spacing = model.cellSizeWS / m;
@@ -539,8 +554,9 @@ inline TriangleMesh weldParts(const ReliefModel& model, const std::vector<Closed
 }  // namespace detail
 
 /// Refuses lattices the edge keys cannot address (2^20 points a side) or larger than
-/// kMaxLatticeCubes cubes over the cells polygonized (about 2^28: tens of seconds, gigabytes of
-/// triangles); a coarser level of detail or the per-face method serves such models.
+/// kMaxLatticeCubes cubes over the cells polygonized (about 2^28: tens of seconds, a gigabyte of
+/// lattice values and more of triangles); a coarser level of detail or the per-face method serves
+/// such models.
 inline constexpr double kMaxLatticeCubes = double(1u << 28);
 inline void checkLatticeSize(const ReliefModel& model, int cubes, std::size_t cells) {
   const double total = double(cells) * double(cubes) * double(cubes) * double(cubes);
@@ -566,13 +582,18 @@ inline TriangleMesh reconstructClosed(const ReliefModel& model, int lod = 0) {
   const std::vector<Vec3i> shell = colors.shell();
   cells.insert(cells.end(), shell.begin(), shell.end());
   checkLatticeSize(model, field.cubes(), cells.size());
-  std::vector<detail::ClosedPart> parts(cells.size());
-  parallelForRange(0, cells.size(), [&](std::size_t begin, std::size_t end) {
-    std::vector<float> values;
+  detail::LatticeBlocks lattice(std::move(cells), field.cubes(), model.gridSize);
+  detail::sampleLattice(field, colors, lattice);
+  lattice.findUniformBlocks();
+  detail::removeSinglePointHandles(lattice, model.gridSize, float(field.emptyMagnitude()));
+  std::vector<detail::ClosedPart> parts(lattice.blockCount());
+  parallelForRange(0, lattice.blockCount(), [&](std::size_t begin, std::size_t end) {
     std::unordered_map<std::uint64_t, std::uint32_t> vertexOf;
     for (std::size_t i = begin; i < end; ++i)
-      detail::polygonizeCell(model, field, signals, colors.neighbourhood(cells[i]), values, vertexOf, parts[i]);
-  }, 8);
+      if (!lattice.uniform(i))  // all on one side: no surface
+          detail::polygonizeCell(model, field, signals, colors.neighbourhood(lattice.cell(i)),
+                               lattice.block(i), vertexOf, parts[i]);
+  }, 1);
   TriangleMesh mesh = detail::weldParts(model, parts);
   detail::dropSpeckles(mesh, kSpeckleSpacings * model.cellSizeWS / field.cubes());
   mesh.sourcePolygons = mesh.triangles.size();
