@@ -483,9 +483,13 @@ inline Reach searchSide(const LatticeBlocks& blocks, const Vec3i& point,
   return Reach::Apart;
 }
 
+/// Lattice points a local search visits before the sides' components are built instead.
+inline constexpr std::size_t kSideSearchBudget = std::size_t(1) << 15;
+
 /// Moves every lattice point that alone makes a handle to the other side (see the file comment),
 /// least sure first, each checked again when its turn comes. Returns the number of handles removed.
-inline int removeSinglePointHandles(LatticeBlocks& blocks, int gridSize, float spacing) {
+inline int removeSinglePointHandles(LatticeBlocks& blocks, int gridSize, float spacing,
+                                    std::size_t searchBudget = kSideSearchBudget) {
   if (blocks.pointCount() > kMaxHandleRemovalPoints) return 0;
   if (!blocks.uniformBlocksFound()) blocks.findUniformBlocks();
   const std::vector<HandlePoint> points = findHandlePoints(blocks, gridSize);
@@ -494,9 +498,8 @@ inline int removeSinglePointHandles(LatticeBlocks& blocks, int gridSize, float s
   std::optional<SideComponents> sides;
   std::optional<SideConnection> connection;
   auto sidesJoined = [&](std::size_t h, const std::array<std::int8_t, KuhnLink::kSize>& label) {
-    constexpr std::size_t kSearchBudget = std::size_t(1) << 15;
     for (const int from : {0, 1}) {
-      const Reach r = searchSide(blocks, points[h].global, label, from, kSearchBudget);
+      const Reach r = searchSide(blocks, points[h].global, label, from, searchBudget);
       if (r != Reach::Unknown) return r == Reach::Joined;
     }
     if (!connection) {
