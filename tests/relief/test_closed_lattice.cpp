@@ -34,7 +34,7 @@ detail::LatticeBlocks makeLattice(const std::function<bool(const Vec3i&)>& insid
       for (int y = 0; y <= kCubes; ++y)
         for (int x = 0; x <= kCubes; ++x) {
           const Vec3i global = lattice.cell(b) * kCubes + Vec3i(x, y, z);
-          lattice.block(b)[lattice.index(0, {x, y, z})] = inside(global) ? 0.5f : -0.5f;
+          lattice.block(b)[lattice.offset({x, y, z})] = inside(global) ? 0.5f : -0.5f;
         }
   return lattice;
 }
@@ -51,7 +51,7 @@ MeshTopology topologyOf(const detail::LatticeBlocks& lattice) {
           const Vec3i cube(x, y, z), global = lattice.cell(b) * kCubes + cube;
           std::array<float, 8> corner;
           for (int k = 0; k < 8; ++k)
-            corner[std::size_t(k)] = values[lattice.index(0, cube + cubeCorner(k))];
+            corner[std::size_t(k)] = values[lattice.offset(cube + cubeCorner(k))];
           const CubeTriangles& triangles =
               kMarchingTetrahedraTable[std::size_t(insideMask(corner))];
           for (int t = 0; t < triangles.count; ++t) {

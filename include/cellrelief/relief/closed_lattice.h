@@ -57,11 +57,14 @@ class LatticeBlocks {
     return std::size_t(mCubes + 1) * std::size_t(mCubes + 1) * std::size_t(mCubes + 1);
   }
   std::size_t pointCount() const { return mPointCount; }
-  /// The index of a block's local point (0..cubes() per axis).
-  std::size_t index(std::size_t block, const Vec3i& local) const {
+  /// The offset of a local point (0..cubes() per axis) within its block.
+  std::size_t offset(const Vec3i& local) const {
     const std::size_t s = std::size_t(mCubes + 1);
-    return block * pointsPerBlock() + (std::size_t(local.z) * s + std::size_t(local.y)) * s +
-           std::size_t(local.x);
+    return (std::size_t(local.z) * s + std::size_t(local.y)) * s + std::size_t(local.x);
+  }
+  /// The index of a block's local point among all the lattice's values.
+  std::size_t index(std::size_t block, const Vec3i& local) const {
+    return block * pointsPerBlock() + offset(local);
   }
   float* block(std::size_t b) { return mValues.get() + b * pointsPerBlock(); }
   const float* block(std::size_t b) const { return mValues.get() + b * pointsPerBlock(); }
@@ -75,26 +78,22 @@ class LatticeBlocks {
     if (it == mBlockOf.end()) return std::nullopt;
     return it->second;
   }
-  /// Calls f(index) for every copy of a lattice point given in global lattice coordinates.
+  /// Calls f(index) for every copy of a lattice point given in global lattice coordinates: per
+  /// axis, the cell the point is the low end of and, on a cell face, the cell below.
   template <class F>
   void forEachCopy(const Vec3i& global, F&& f) const {
-    int count[3];
-    Vec3i cellOf[3][2], localOf[3][2];
+    int count[3] = {0, 0, 0}, cellOf[3][2], localOf[3][2];
     for (int a = 0; a < 3; ++a) {
-      count[a] = 0;
       if (global[a] < 0) return;
       const int q = global[a] / mCubes, r = global[a] % mCubes;
-      if (q < mGridSize) cellOf[a][count[a]] = Vec3i(q), localOf[a][count[a]++] = Vec3i(r);
-      if (r == 0 && q > 0)
-        cellOf[a][count[a]] = Vec3i(q - 1), localOf[a][count[a]++] = Vec3i(mCubes);
+      if (q < mGridSize) cellOf[a][count[a]] = q, localOf[a][count[a]++] = r;
+      if (r == 0 && q > 0) cellOf[a][count[a]] = q - 1, localOf[a][count[a]++] = mCubes;
     }
     for (int i = 0; i < count[0]; ++i)
       for (int j = 0; j < count[1]; ++j)
-        for (int k = 0; k < count[2]; ++k) {
-          const Vec3i cell(cellOf[0][i].x, cellOf[1][j].x, cellOf[2][k].x);
-          if (const std::optional<std::size_t> b = blockOf(cell))
-            f(index(*b, Vec3i(localOf[0][i].x, localOf[1][j].x, localOf[2][k].x)));
-        }
+        for (int k = 0; k < count[2]; ++k)
+          if (const auto b = blockOf(Vec3i(cellOf[0][i], cellOf[1][j], cellOf[2][k])))
+            f(index(*b, Vec3i(localOf[0][i], localOf[1][j], localOf[2][k])));
   }
   /// The index of one copy of a lattice point, or nullopt when no polygonized cell holds it: the
   /// copy in the cell the point is the low corner of when there is one, as for most points.
@@ -164,6 +163,12 @@ class LatticeBlocks {
   std::vector<char> mUniform;
 };
 
+/// A key for a lattice point in global coordinates (below 2^21 a side).
+inline std::uint64_t latticePointKey(const Vec3i& g) {
+  return std::uint64_t(std::uint32_t(g.x)) | (std::uint64_t(std::uint32_t(g.y)) << 21) |
+         (std::uint64_t(std::uint32_t(g.z)) << 42);
+}
+
 /// Above this many lattice points (copies counted) the handles are left as they are: finding the
 /// sides' components costs a byte a point and 8 bytes a point of the blocks with both sides in
 /// them (up to 2.3 GiB here).
@@ -203,7 +208,7 @@ inline std::vector<HandlePoint> findHandlePoints(const LatticeBlocks& blocks, in
     step[std::size_t(v)] = (std::ptrdiff_t(d.z) * side + d.y) * side + d.x;
   }
   std::array<std::size_t, 8> cornerStep;
-  for (int k = 0; k < 8; ++k) cornerStep[std::size_t(k)] = blocks.index(0, cubeCorner(k));
+  for (int k = 0; k < 8; ++k) cornerStep[std::size_t(k)] = blocks.offset(cubeCorner(k));
   // Only a point with a neighbour on the other side can be a handle point, and the edge to that
   // neighbour lies in a cube of a block that holds both: only the corners of cubes with both
   // sides in them need the full test, and blocks all on one side none.
@@ -212,7 +217,7 @@ inline std::vector<HandlePoint> findHandlePoints(const LatticeBlocks& blocks, in
     for (int z = 0; z < m; ++z)
       for (int y = 0; y < m; ++y)
         for (int x = 0; x < m; ++x) {
-          const std::size_t first = blocks.index(0, Vec3i(x, y, z));
+          const std::size_t first = blocks.offset(Vec3i(x, y, z));
           int inside = 0;
           for (int k = 0; k < 8; ++k) inside += values[first + cornerStep[std::size_t(k)]] > 0;
           if (inside == 0 || inside == 8) continue;
@@ -239,15 +244,15 @@ inline std::vector<HandlePoint> findHandlePoints(const LatticeBlocks& blocks, in
           for (int z = 0; z <= m; ++z)
             for (int y = 0; y <= m; ++y)
               for (int x = 0; x <= m; ++x) {
-                if (!marked[blocks.index(0, Vec3i(x, y, z))]) continue;
+                if (!marked[blocks.offset(Vec3i(x, y, z))]) continue;
                 const Vec3i global = base + Vec3i(x, y, z);
                 if (glm::any(glm::equal(global, Vec3i(0))) ||
                     glm::any(glm::equal(global, Vec3i(last))))
                   continue;
-                const float v = values[blocks.index(0, Vec3i(x, y, z))];
+                const float v = values[blocks.offset(Vec3i(x, y, z))];
                 const std::optional<KuhnLink::Mask> inside =
                     interior(x) && interior(y) && interior(z)
-                        ? insideInBlock(values + blocks.index(0, Vec3i(x, y, z)))
+                        ? insideInBlock(values + blocks.offset(Vec3i(x, y, z)))
                         : insideNeighbours(blocks, global);
                 if (!inside) continue;
                 const KuhnLink::Mask joined = joinedSide(*inside, v > 0);
@@ -428,10 +433,7 @@ class SideConnection {
   }
 
  private:
-  static std::uint64_t key(const Vec3i& g) {
-    return std::uint64_t(std::uint32_t(g.x)) | (std::uint64_t(std::uint32_t(g.y)) << 21) |
-           (std::uint64_t(std::uint32_t(g.z)) << 42);
-  }
+  static std::uint64_t key(const Vec3i& g) { return latticePointKey(g); }
   bool inside(const Vec3i& g) const { return mBlocks.value(*mBlocks.find(g)) > 0; }
 
   const LatticeBlocks& mBlocks;
@@ -452,10 +454,7 @@ enum class Reach { Joined, Apart, Unknown };
 inline Reach searchSide(const LatticeBlocks& blocks, const Vec3i& point,
                         const std::array<std::int8_t, KuhnLink::kSize>& label, int from,
                         std::size_t budget) {
-  auto key = [](const Vec3i& g) {
-    return std::uint64_t(std::uint32_t(g.x)) | (std::uint64_t(std::uint32_t(g.y)) << 21) |
-           (std::uint64_t(std::uint32_t(g.z)) << 42);
-  };
+  const auto key = latticePointKey;
   const bool side = blocks.value(*blocks.find(point)) > 0;
   std::unordered_set<std::uint64_t> visited{key(point)}, targets;
   std::vector<Vec3i> queue;

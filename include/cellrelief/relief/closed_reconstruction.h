@@ -298,7 +298,7 @@ inline void sampleLattice(const CellField& field, const CellColors& colors,
       for (int c = 0; c <= m; ++c)
         for (int y = 0; y <= m; ++y)
           for (int a = 0; a <= m; ++a)
-            values[lattice.index(0, {a, y, c})] = latticeValue(field, n, {a, y, c});
+            values[lattice.offset({a, y, c})] = latticeValue(field, n, {a, y, c});
     }
   }, 1);  // a block is thousands of points: TBB splits down to one
 }
@@ -406,13 +406,13 @@ inline std::optional<Vec3d> snapToSurface(const ReliefModel& model, const CellFi
   return sum / double(count);
 }
 
-/// Polygonizes the cubes of the cell at the centre of n, whose lattice values are `values`
-/// (LatticeBlocks' layout).
+/// Polygonizes the cubes of the cell at the centre of n, whose lattice values are `block` of
+/// `lattice`.
 inline void polygonizeCell(const ReliefModel& model, const CellField& field, const SignalLookup& signals,
-                           const CellNeighbourhood& n, const float* values,
+                           const CellNeighbourhood& n, const LatticeBlocks& lattice, std::size_t block,
                            std::unordered_map<std::uint64_t, std::uint32_t>& vertexOf, ClosedPart& part) {
-  const int m = field.cubes(), s = m + 1;
-  auto flat = [s](int a, int b, int c) { return (std::size_t(c) * s + std::size_t(b)) * s + std::size_t(a); };
+  const int m = field.cubes();
+  const float* values = lattice.block(block);
   vertexOf.clear();
   const Vec3i base = n.ijk * m;  // the cell's first lattice point, globally
   const double spacing = model.cellSizeWS / m;
@@ -421,7 +421,7 @@ inline void polygonizeCell(const ReliefModel& model, const CellField& field, con
     const std::uint64_t key = latticeEdgeKey(base + cube, e.inside, e.outside);
     const auto [it, inserted] = vertexOf.try_emplace(key, std::uint32_t(part.positions.size()));
     if (!inserted) return it->second;
-    const float t = zeroCrossing(values[flat(in.x, in.y, in.z)], values[flat(out.x, out.y, out.z)]);
+    const float t = zeroCrossing(values[lattice.offset(in)], values[lattice.offset(out)]);
     part.keys.push_back(key);
     const std::optional<Vec3d> onSurface = snapToSurface(model, field, n, in, out, double(t));
     if (onSurface) {
@@ -447,7 +447,7 @@ inline void polygonizeCell(const ReliefModel& model, const CellField& field, con
         std::array<float, 8> corner;
         for (int k = 0; k < 8; ++k) {
           const Vec3i p = Vec3i(a, b, c) + cubeCorner(k);
-          corner[std::size_t(k)] = values[flat(p.x, p.y, p.z)];
+          corner[std::size_t(k)] = values[lattice.offset(p)];
         }
         const CubeTriangles& cubeTriangles = kMarchingTetrahedraTable[std::size_t(insideMask(corner))];
         const Vec3i cube(a, b, c);
@@ -591,8 +591,8 @@ inline TriangleMesh reconstructClosed(const ReliefModel& model, int lod = 0) {
     std::unordered_map<std::uint64_t, std::uint32_t> vertexOf;
     for (std::size_t i = begin; i < end; ++i)
       if (!lattice.uniform(i))  // all on one side: no surface
-          detail::polygonizeCell(model, field, signals, colors.neighbourhood(lattice.cell(i)),
-                               lattice.block(i), vertexOf, parts[i]);
+          detail::polygonizeCell(model, field, signals, colors.neighbourhood(lattice.cell(i)), lattice,
+                               i, vertexOf, parts[i]);
   }, 1);
   TriangleMesh mesh = detail::weldParts(model, parts);
   detail::dropSpeckles(mesh, kSpeckleSpacings * model.cellSizeWS / field.cubes());
