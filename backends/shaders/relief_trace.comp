@@ -1288,13 +1288,77 @@ vec3 pcProjectCase6a(vec3 p) {
   return -pcProjectArmFan(pcLargest(-p), -p);
 }
 
+// detail::case6bSpinePoint.
+vec3 pcCase6bSpinePoint(float s) {
+  s = clamp(s, 0.0, 3.0);
+  if (s <= 1.0) return vec3(s - 0.5, -0.5, -0.5);
+  if (s <= 2.0) return vec3(0.5, s - 1.5, -0.5);
+  return vec3(0.5, 0.5, s - 2.5);
+}
+
+// detail::case6bSpineParameter.
+float pcCase6bSpineParameter(vec3 p) {
+  const float sL = p.x + p.y <= 0.0 ? (p.x + 0.5) / (0.5 - p.y) : 2.0 - (0.5 - p.y) / (p.x + 0.5);
+  const float sR = p.y + p.z <= 0.0 ? 1.0 + (p.y + 0.5) / (0.5 - p.z) : 3.0 - (0.5 - p.z) / (p.y + 0.5);
+  if (p.x <= 0.0) return sL;
+  if (p.z >= 0.0) return sR;
+  const float a = min(min(length(vec2(p.x, max(p.y, 0.0))), p.y + 0.5), p.z + 0.5);
+  const float b = min(min(0.5 - p.x, 0.5 - p.y), length(vec2(p.z, min(p.y, 0.0))));
+  if (a + b <= 0.0) return 1.5;
+  const float w = a * a / (a * a + b * b);
+  return (1.0 - w) * sL + w * sR;
+}
+
+// detail::case6bFirstSurfaceHit, over detail::kCase6bSquarelets.
+vec3 pcCase6bFirstSurfaceHit(vec3 p, vec3 d) {
+  const vec3 lo[6] = vec3[6](vec3(-0.5, 0.0, -0.5), vec3(-0.5, -0.5, 0.0), vec3(0.0, -0.5, 0.0),
+                             vec3(0.0, 0.0, -0.5), vec3(0.0), vec3(0.0));
+  const vec3 hi[6] = vec3[6](vec3(0.0), vec3(0.0), vec3(0.5, 0.0, 0.0), vec3(0.0, 0.5, 0.0),
+                             vec3(0.0, 0.5, 0.5), vec3(0.5, 0.0, 0.5));
+  const int axes[6] = int[6](1, 2, 2, 0, 0, 1);
+  float best = CR_INF;
+  vec3 nearest = p;
+  float nearestDistance = CR_INF;
+  for (int i = 0; i < 6; ++i) {
+    const vec3 clamped = clamp(p, lo[i], hi[i]);
+    const float distance = length(p - clamped);
+    if (distance == 0.0) return p;
+    if (distance < nearestDistance) {
+      nearestDistance = distance;
+      nearest = clamped;
+    }
+    const int axis = axes[i];
+    if (d[axis] == 0.0) continue;
+    const float t = -p[axis] / d[axis];
+    if (t < 0.0 || t >= best) continue;
+    const vec3 x = p + t * d;
+    bool inside = true;
+    for (int k = 0; k < 3; ++k)
+      if (k != axis && (x[k] < lo[i][k] - 1e-6 || x[k] > hi[i][k] + 1e-6)) inside = false;
+    if (inside) best = t;
+  }
+  if (best == CR_INF) return nearest;
+  return clamp(p + best * d, vec3(-0.5), vec3(0.5));
+}
+
+// detail::projectCase6b: the solid side, and the empty side through (x, y, z) -> (z, -y, x).
+vec3 pcProjectCase6bSolid(vec3 p) {
+  return pcCase6bFirstSurfaceHit(p, p - pcCase6bSpinePoint(pcCase6bSpineParameter(p)));
+}
+vec3 pcProjectCase6b(vec3 p) {
+  const int octant = (p.x > 0.0 ? 1 : 0) | (p.y > 0.0 ? 2 : 0) | (p.z > 0.0 ? 4 : 0);
+  if (((0x8bu >> uint(octant)) & 1u) != 0u) return pcProjectCase6bSolid(p);
+  const vec3 image = pcProjectCase6bSolid(vec3(p.z, -p.y, p.x));
+  return vec3(image.z, -image.y, image.x);
+}
+
 // PolycubeSurface::project: P through the dual cell of the nearest lattice vertex.
 bool pcProject(int mesh, vec3 p, out vec3 q) {
   q = p;
   const ivec3 vertex = ivec3(floor(p + 0.5));
   const uvec2 e = pcEntry(mesh, vertex);
   const uint c = e.x & 7u;
-  if (c >= 5u) return false;  // empty, or case 6b (refused at upload)
+  if (c >= 6u) return false;  // empty
   const uint permutation = (e.x >> 3u) & 0x1ffu;
   const vec3 d = pcApplyInverse(permutation, p - vec3(vertex));
   vec3 image;
@@ -1302,7 +1366,8 @@ bool pcProject(int mesh, vec3 p, out vec3 q) {
   else if (c == 1u) image = pcProjectFromBoxCorner(d, bvec3(false, false, true));
   else if (c == 2u) image = pcProjectFromBoxCorner(d, bvec3(false, true, true));
   else if (c == 3u) image = pcProjectCase5(d);
-  else image = pcProjectCase6a(d);
+  else if (c == 4u) image = pcProjectCase6a(d);
+  else image = pcProjectCase6b(d);
   q = vec3(vertex) + pcApply(permutation, image);
   return true;
 }

@@ -31,10 +31,6 @@ double distanceToSurface(std::uint8_t configuration, const Vec3d& p) {
   return best;
 }
 
-bool designed(std::uint8_t configuration) {
-  return kVertexConfigurations[configuration].vertexCase != VertexCase::k6b;
-}
-
 /// The 2D rule of cell face (axis, side) for a point p of it: orthogonal projection onto a
 /// straight line, central projection from the odd quadrant's corner onto a corner. Nothing when
 /// the surface does not cross the face.
@@ -82,7 +78,7 @@ TEST(PolycubeProjection, MapsOntoTheSurfaceAndFixesIt) {
   int checked = 0;
   for (int c = 1; c < 255; ++c) {
     const auto configuration = std::uint8_t(c);
-    if (!kVertexConfigurations[c].manifold || !designed(configuration)) continue;
+    if (!kVertexConfigurations[c].manifold) continue;
     for (int k = 0; k < 400; ++k) {
       const Vec3d p = randomInCell(random);
       if (distanceToSurface(configuration, p) > kReach) continue;
@@ -102,7 +98,7 @@ TEST(PolycubeProjection, OnEveryCrossedCellFaceItIsTheFacesOwnRule) {
   int checked = 0;
   for (int c = 1; c < 255; ++c) {
     const auto configuration = std::uint8_t(c);
-    if (!kVertexConfigurations[c].manifold || !designed(configuration)) continue;
+    if (!kVertexConfigurations[c].manifold) continue;
     for (int axis = 0; axis < 3; ++axis)
       for (int side = 0; side < 2; ++side)
         for (int k = 0; k < 100; ++k) {
@@ -123,26 +119,35 @@ TEST(PolycubeProjection, OnEveryCrossedCellFaceItIsTheFacesOwnRule) {
 TEST(PolycubeProjection, IsContinuousWithinReachOfTheSurface) {
   std::mt19937 random(3);
   std::normal_distribution<double> gauss;
-  double worst = 0;
+  double worst[kVertexCaseCount] = {};
   for (int c = 1; c < 255; ++c) {
     const auto configuration = std::uint8_t(c);
-    if (!kVertexConfigurations[c].manifold || !designed(configuration)) continue;
+    if (!kVertexConfigurations[c].manifold) continue;
+    double& caseWorst = worst[static_cast<int>(kVertexConfigurations[c].vertexCase)];
     for (int k = 0; k < 300; ++k) {
       const Vec3d p = randomInCell(random);
       const Vec3d step = 1e-5 * glm::normalize(Vec3d(gauss(random), gauss(random), gauss(random)));
       const Vec3d p2 = glm::clamp(p + step, Vec3d(-0.5), Vec3d(0.5));
       if (distanceToSurface(configuration, p) > kReach || distanceToSurface(configuration, p2) > kReach) continue;
-      worst = std::max(worst, glm::length(project(configuration, p) - project(configuration, p2)) / glm::length(p2 - p));
+      caseWorst = std::max(caseWorst, glm::length(project(configuration, p) - project(configuration, p2)) /
+                                          glm::length(p2 - p));
     }
   }
   // A Lipschitz bound: central projections from half a cube away stretch by at most a few times.
-  EXPECT_LT(worst, 20.0);
-  std::printf("largest stretch |P(p) - P(p')| / |p - p'| within %.2f of the surface: %.2f\n", kReach, worst);
+  // Case 6b's rays from near its middle cubes' diagonal meet the surface near the vertex at a
+  // grazing angle (projection.h), so its bound is larger; a jump would show as about 1e5.
+  for (int k = 0; k < kVertexCaseCount; ++k) {
+    const auto vertexCase = static_cast<VertexCase>(k);
+    EXPECT_LT(worst[k], vertexCase == VertexCase::k6b ? 60.0 : 20.0) << "case " << toString(vertexCase);
+    std::printf("case %-2s: largest stretch |P(p) - P(p')| / |p - p'| within %.2f of the surface: %.2f\n",
+                std::string(toString(vertexCase)).c_str(), kReach, worst[k]);
+  }
 }
 
-TEST(PolycubeProjection, CasesNotDesignedYetAreRefused) {
-  EXPECT_THROW(project(kCanonicalOctants[static_cast<int>(VertexCase::k6b)], Vec3d(0.1)), Error);
+TEST(PolycubeProjection, ConfigurationsWithoutSurfaceAreRefused) {
   EXPECT_THROW(project(0, Vec3d(0.1)), Error);
+  EXPECT_THROW(project(255, Vec3d(0.1)), Error);
+  EXPECT_THROW(project(0b10000001, Vec3d(0.1)), Error);  // two cubes meeting at the vertex: not manifold
 }
 
 }  // namespace

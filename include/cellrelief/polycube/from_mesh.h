@@ -10,7 +10,8 @@
 /// 3. make it manifold: at each lattice vertex where cubes meet only along an edge or at a corner,
 ///    add the fewest cubes, preferring cells the surface passes through (makeManifold);
 /// 4. remove the vertices of case 6b (removeVerticesOfCase: toggling one cube, or a pair; their
-///    projection is not designed yet), keeping the surface manifold and its genus;
+///    projection stretches about four times more than the other cases'), keeping the surface
+///    manifold and its genus; those it cannot remove stay, and P handles them;
 /// 5. accept it when its genus is the mesh's.
 /// With N = 0 (automatic) the coarsest N of `autoSizes` that passes is taken: few cubes per large
 /// feature, as the paper's polycubes have. Where no size passes, an Error says why (the genera

@@ -113,8 +113,8 @@ std::vector<Vec3i> verticesOfCase(const Polycube& polycube, VertexCase vertexCas
 /// the count among the vertices it changes the most (ties: the one `prefer` ranks highest for a
 /// cube added, 1 - prefer for one removed); where no single cube helps, the best pair of cubes
 /// within two of the vertex. Vertices neither removes stay. Returns the cubes toggled. Used for
-/// case 6b, whose projection is not designed yet (projection.h); the paper's own polycubes
-/// avoided 6a and 6b.
+/// case 6b, whose projection stretches more than the other cases' (projection.h); the paper's
+/// own polycubes avoided 6a and 6b.
 template <class Preference>
 std::size_t removeVerticesOfCase(Polycube& polycube, VertexCase vertexCase, Preference&& prefer, int maxRounds = 64);
 

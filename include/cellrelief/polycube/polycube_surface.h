@@ -17,17 +17,8 @@ namespace cellrelief::polycube {
 
 class PolycubeSurface {
  public:
-  /// Throws InvalidArgument for an empty or non-manifold polycube (the look-up table's checks)
-  /// and Unsupported when a vertex is of case 6b, whose projection is not designed yet.
+  /// Throws InvalidArgument for an empty or non-manifold polycube (the look-up table's checks).
   explicit PolycubeSurface(Polycube polycube) : mPolycube(std::move(polycube)), mLut(mPolycube) {
-    const std::vector<Vec3i> chiral = verticesOfCase(mPolycube, VertexCase::k6b);
-    if (!chiral.empty())
-      throw Error(ErrorKind::Unsupported,
-                  "polycube surface: " + std::to_string(chiral.size()) + " vertices are of case 6b, the first (" +
-                      std::to_string(chiral[0].x) + ", " + std::to_string(chiral[0].y) + ", " +
-                      std::to_string(chiral[0].z) +
-                      "), whose projection is not designed yet; automatic polycubes remove them "
-                      "(removeVerticesOfCase)");
     mArea = double(mPolycube.surfaceStats().faces);
   }
 
