@@ -129,8 +129,8 @@ int runPolycube(const PolycubeCommandOptions& o) {
     options.cubesPerSide = parseGridSize(o.grid);
     domain = withPath(o.mesh, [&] { return polycube::automaticDomain(mesh, options); });
     for (const polycube::PolycubeTrial& t : domain.search->trials)
-      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness, %zu toggled to remove case-6b "
-                  "vertices, %zu left), %s\n", t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bToggled, t.case6bLeft,
+      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness), %zu case-6b vertices, %s\n",
+                  t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bLeft,
                   t.genus ? ("genus " + std::to_string(*t.genus)).c_str() : "not a closed manifold");
     std::printf("chosen        N = %d, %.2f s\n", domain.search->cubesPerSide, domain.search->seconds);
   }

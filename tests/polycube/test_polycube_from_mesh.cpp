@@ -44,9 +44,9 @@ TEST_P(PolycubeOfRealMesh, IsAClosedManifoldShellOfTheMeshGenusNearTheMesh) {
     EXPECT_LE(std::sqrt(cubeBvh.bvh.closestPoint(Vec3d(mesh.positions[i])).first), reach);
   // Few cubes per feature: the coarsest size that keeps the genus.
   EXPECT_EQ(result.trials.back().cubesPerSide, result.cubesPerSide);
-  // Case 6b, whose projection stretches more than the other cases', is removed.
-  EXPECT_EQ(s.perCase[static_cast<int>(VertexCase::k6b)], 0u);
-  EXPECT_EQ(result.trials.back().case6bLeft, 0u);
+  // Case 6b vertices are kept (removeCase6b is off) and counted.
+  EXPECT_EQ(result.trials.back().case6bToggled, 0u);
+  EXPECT_EQ(s.perCase[static_cast<int>(VertexCase::k6b)], result.trials.back().case6bLeft);
   for (const Vec3i& v : p.surfaceVertices()) EXPECT_NO_THROW(project(p.vertexConfiguration(v), Vec3d(0.05, -0.03, 0.02)));
   std::printf("%s: N = %d, %zu cubes (%zu added for manifoldness, %zu toggled to remove 6b), %zu faces, "
               "cases 3/4a/4b/5/6a/6b = %zu/%zu/%zu/%zu/%zu/%zu, %.2f s\n",

@@ -9,9 +9,9 @@
 /// 2. keep the largest 6-connected piece and fill its cavities (one closed shell);
 /// 3. make it manifold: at each lattice vertex where cubes meet only along an edge or at a corner,
 ///    add the fewest cubes, preferring cells the surface passes through (makeManifold);
-/// 4. remove the vertices of case 6b (removeVerticesOfCase: toggling one cube, or a pair; their
-///    projection stretches about four times more than the other cases'), keeping the surface
-///    manifold and its genus; those it cannot remove stay, and P handles them;
+/// 4. only with removeCase6b: remove the vertices of case 6b (removeVerticesOfCase: toggling one
+///    cube, or a pair; their projection stretches about four times more than the other cases'),
+///    keeping the surface manifold and its genus;
 /// 5. accept it when its genus is the mesh's.
 /// With N = 0 (automatic) the coarsest N of `autoSizes` that passes is taken: few cubes per large
 /// feature, as the paper's polycubes have. Where no size passes, an Error says why (the genera
@@ -37,6 +37,10 @@ struct PolycubeOptions {
   /// Accept only a polycube of the mesh's genus (with its holes capped). A mesh whose genus is
   /// unknown (non-manifold, or in pieces) takes the first closed manifold polycube.
   bool matchGenus = true;
+  /// Step 4: toggle cubes to remove the vertices of case 6b, whose P stretches the most. Off by
+  /// default: the toggled cubes cost more than the stretch (fertility's map kept 19 flipped
+  /// triangles on the polycube without them, 2 on the one with its 12 case-6b vertices).
+  bool removeCase6b = false;
 };
 
 /// Genus of a connected manifold mesh with its holes capped: (2 - chi - boundary loops) / 2.
@@ -68,7 +72,7 @@ namespace detail {
 
 /// Steps 1-4 at one lattice size.
 inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec3d> positions, int n,
-                                   PolycubeFrame& frame, PolycubeTrial& trial) {
+                                   bool removeCase6b, PolycubeFrame& frame, PolycubeTrial& trial) {
   const cells::CellComplex complex =
       cells::CellComplex::build(mesh, {.gridSize = n, .offProjectionPlanes = false});
   frame = {complex.boundsWS().min, complex.cellSizeWS()};
@@ -97,7 +101,7 @@ inline Polycube manifoldPolycubeAt(const TriangleMesh& mesh, std::span<const Vec
   polycube = keepLargestAndFill(polycube);
   trial.addedForManifold += makeManifold(polycube);
   if (polycube.nonManifoldVertices().empty() && polycube.surfaceStats().genus()) {
-    trial.case6bToggled = removeVerticesOfCase(polycube, VertexCase::k6b, onOrInside);
+    if (removeCase6b) trial.case6bToggled = removeVerticesOfCase(polycube, VertexCase::k6b, onOrInside);
     trial.case6bLeft = verticesOfCase(polycube, VertexCase::k6b).size();
   }
   return polycube;
@@ -120,7 +124,7 @@ inline PolycubeResult polycubeOfMesh(const TriangleMesh& mesh, const PolycubeOpt
     PolycubeFrame frame;
     PolycubeTrial trial;
     trial.cubesPerSide = n;
-    Polycube polycube = detail::manifoldPolycubeAt(mesh, positions, n, frame, trial);
+    Polycube polycube = detail::manifoldPolycubeAt(mesh, positions, n, options.removeCase6b, frame, trial);
     const std::optional<int> genus = polycube.surfaceStats().genus();
     trial.cubes = polycube.size();
     trial.genus = genus;
