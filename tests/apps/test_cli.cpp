@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 // The `cellrelief` program as a user runs it: exit codes, messages on bad input, help, version.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
+#include <cellrelief/core/procedural.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
 
@@ -183,6 +186,56 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
     EXPECT_TRUE(test::hasWords(e.output, words)) << e.output;
     EXPECT_FALSE(std::filesystem::exists(dir / ("out_" + file))) << file;
   }
+}
+
+// A cube file may hold a case-6b vertex: four cubes in a skew path, whose vertex (1, 1, 1) is
+// one, under a mesh that is their surface refined and warped. The command maps it without a fold,
+// writes everything, and `render` draws the folder.
+TEST(Cli, PolycubeTakesACubeFileWithACase6bVertex) {
+  test::TempDir dir;
+  const std::array<Vec3i, 4> cubes{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}}};
+  const auto isCube = [&](const Vec3i& c) { return std::find(cubes.begin(), cubes.end(), c) != cubes.end(); };
+  TriangleMesh mesh;  // the faces between a cube and an empty neighbour, outward, corners shared
+  std::map<int, std::uint32_t> corners;
+  const auto corner = [&](const Vec3i& p) {
+    const auto [at, added] = corners.try_emplace(p.x + 4 * p.y + 16 * p.z, std::uint32_t(mesh.positions.size()));
+    if (added) mesh.positions.push_back(Vec3f(p));
+    return at->second;
+  };
+  for (const Vec3i& c : cubes)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side : {0, 1}) {
+        Vec3i beside = c;
+        beside[axis] += side ? 1 : -1;
+        if (isCube(beside)) continue;
+        const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // (a, b, axis) right-handed
+        std::uint32_t quad[4];
+        for (int k = 0; k < 4; ++k) {
+          Vec3i p = c;
+          p[axis] += side;
+          p[a] += k == 1 || k == 2;
+          p[b] += k >= 2;
+          quad[k] = corner(p);
+        }
+        if (!side) std::swap(quad[1], quad[3]);  // counter-clockwise seen from outside
+        mesh.triangles.push_back({quad[0], quad[1], quad[2]});
+        mesh.triangles.push_back({quad[0], quad[2], quad[3]});
+      }
+  splitTrianglesInFour(mesh, 2, [](const Vec3f& a, const Vec3f& b) { return 0.5f * (a + b); });
+  for (Vec3f& x : mesh.positions)
+    x += 0.08f * Vec3f(std::sin(2.3f * x.y + 0.4f), std::sin(1.9f * x.z + 1.1f), std::sin(2.7f * x.x + 2.0f));
+  io::writeMesh(mesh, dir / "skew.obj");
+  test::writeBytes(dir / "skew.txt", "frame 0 0 0 1\n0 0 0\n1 0 0\n1 1 0\n1 1 1\n");
+  const Result r = run("polycube " + (dir / "skew.obj").string() + " --cubes " + (dir / "skew.txt").string() +
+                       " --texels 8 -o " + (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(test::hasWords(r.output, "6b: 1")) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "polycube_render.png"));
+  const Result rendered = run("render " + (dir / "out").string() + " --backend vulkan --size 64x64 -o " +
+                              (dir / "render.png").string());
+  if (rendered.status != 0 && !test::inCI()) return;  // no Vulkan here
+  EXPECT_EQ(rendered.status, 0) << rendered.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "render.png"));
 }
 
 // Flat meshes convert (as a thin closed slab), and so do surfaces lying in planes of the grid
