@@ -1309,7 +1309,7 @@ float pcCase6bSpineParameter(vec3 p) {
   return (1.0 - w) * sL + w * sR;
 }
 
-// detail::case6bFirstSurfaceHit, over detail::kCase6bSquarelets.
+// detail::case6bFirstSurfaceHit, over case 6b's six squarelets (squareletBounds).
 vec3 pcCase6bFirstSurfaceHit(vec3 p, vec3 d) {
   const vec3 lo[6] = vec3[6](vec3(-0.5, 0.0, -0.5), vec3(-0.5, -0.5, 0.0), vec3(0.0, -0.5, 0.0),
                              vec3(0.0, 0.0, -0.5), vec3(0.0), vec3(0.0));
@@ -1317,16 +1317,8 @@ vec3 pcCase6bFirstSurfaceHit(vec3 p, vec3 d) {
                              vec3(0.0, 0.5, 0.5), vec3(0.5, 0.0, 0.5));
   const int axes[6] = int[6](1, 2, 2, 0, 0, 1);
   float best = CR_INF;
-  vec3 nearest = p;
-  float nearestDistance = CR_INF;
   for (int i = 0; i < 6; ++i) {
-    const vec3 clamped = clamp(p, lo[i], hi[i]);
-    const float distance = length(p - clamped);
-    if (distance == 0.0) return p;
-    if (distance < nearestDistance) {
-      nearestDistance = distance;
-      nearest = clamped;
-    }
+    if (clamp(p, lo[i], hi[i]) == p) return p;
     const int axis = axes[i];
     if (d[axis] == 0.0) continue;
     const float t = -p[axis] / d[axis];
@@ -1337,8 +1329,18 @@ vec3 pcCase6bFirstSurfaceHit(vec3 p, vec3 d) {
       if (k != axis && (x[k] < lo[i][k] - 1e-6 || x[k] > hi[i][k] + 1e-6)) inside = false;
     if (inside) best = t;
   }
-  if (best == CR_INF) return nearest;
-  return clamp(p + best * d, vec3(-0.5), vec3(0.5));
+  if (best != CR_INF) return clamp(p + best * d, vec3(-0.5), vec3(0.5));
+  vec3 nearest = p;  // a miss, beyond reach: the surface's nearest point
+  float nearestDistance = CR_INF;
+  for (int i = 0; i < 6; ++i) {
+    const vec3 clamped = clamp(p, lo[i], hi[i]);
+    const float distance = length(p - clamped);
+    if (distance < nearestDistance) {
+      nearestDistance = distance;
+      nearest = clamped;
+    }
+  }
+  return nearest;
 }
 
 // detail::projectCase6b: the solid side, and the empty side through (x, y, z) -> (z, -y, x).

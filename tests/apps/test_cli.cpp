@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The `cellrelief` program as a user runs it: exit codes, messages on bad input, help, version.
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
@@ -12,6 +10,7 @@
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/io/image_io.h>
 #include <cellrelief/io/mesh_io.h>
+#include <cellrelief/polycube/polycube.h>
 
 #include "test_support.h"
 
@@ -193,34 +192,8 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
 // writes everything, and `render` draws the folder.
 TEST(Cli, PolycubeTakesACubeFileWithACase6bVertex) {
   test::TempDir dir;
-  const std::array<Vec3i, 4> cubes{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}}};
-  const auto isCube = [&](const Vec3i& c) { return std::find(cubes.begin(), cubes.end(), c) != cubes.end(); };
-  TriangleMesh mesh;  // the faces between a cube and an empty neighbour, outward, corners shared
-  std::map<int, std::uint32_t> corners;
-  const auto corner = [&](const Vec3i& p) {
-    const auto [at, added] = corners.try_emplace(p.x + 4 * p.y + 16 * p.z, std::uint32_t(mesh.positions.size()));
-    if (added) mesh.positions.push_back(Vec3f(p));
-    return at->second;
-  };
-  for (const Vec3i& c : cubes)
-    for (int axis = 0; axis < 3; ++axis)
-      for (int side : {0, 1}) {
-        Vec3i beside = c;
-        beside[axis] += side ? 1 : -1;
-        if (isCube(beside)) continue;
-        const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // (a, b, axis) right-handed
-        std::uint32_t quad[4];
-        for (int k = 0; k < 4; ++k) {
-          Vec3i p = c;
-          p[axis] += side;
-          p[a] += k == 1 || k == 2;
-          p[b] += k >= 2;
-          quad[k] = corner(p);
-        }
-        if (!side) std::swap(quad[1], quad[3]);  // counter-clockwise seen from outside
-        mesh.triangles.push_back({quad[0], quad[1], quad[2]});
-        mesh.triangles.push_back({quad[0], quad[2], quad[3]});
-      }
+  TriangleMesh mesh =
+      polycube::Polycube(std::vector<Vec3i>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}}).surfaceMesh();
   splitTrianglesInFour(mesh, 2, [](const Vec3f& a, const Vec3f& b) { return 0.5f * (a + b); });
   for (Vec3f& x : mesh.positions)
     x += 0.08f * Vec3f(std::sin(2.3f * x.y + 0.4f), std::sin(1.9f * x.z + 1.1f), std::sin(2.7f * x.x + 2.0f));

@@ -10,22 +10,11 @@
 namespace cellrelief::polycube {
 namespace {
 
-/// Squarelet i as a box: zero thickness on its axis, [0, 1/2] or [-1/2, 0] on the others.
-Aabbd squareletBox(int index) {
-  const int axis = index / 4, a = (axis + 1) % 3, b = (axis + 2) % 3;
-  const int lo = std::min(a, b), hi = std::max(a, b);
-  Aabbd box;
-  box.min = box.max = Vec3d(0.0);
-  (index & 1 ? box.max : box.min)[lo] = (index & 1) ? 0.5 : -0.5;
-  (index & 2 ? box.max : box.min)[hi] = (index & 2) ? 0.5 : -0.5;
-  return box;
-}
-
 double distanceToSurface(std::uint8_t configuration, const Vec3d& p) {
   double best = INFINITY;
   for (int i = 0; i < 12; ++i)
     if (kVertexConfigurations[configuration].squarelets & (1u << i)) {
-      const Aabbd box = squareletBox(i);
+      const SquareletBounds box = squareletBounds(i);
       best = std::min(best, glm::length(p - glm::clamp(p, box.min, box.max)));
     }
   return best;

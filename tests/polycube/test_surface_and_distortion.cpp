@@ -86,7 +86,7 @@ TEST(PolycubeSurface, ProjectsPointsNearTheSurfaceOntoItAndLeavesItsPointsAlone)
 
 TEST(PolycubeSurface, AcceptsEveryManifoldPolycubeAndProjectsOntoItAtCase6bVertices) {
   std::mt19937 random(5);
-  std::uniform_real_distribution<double> along(0.0, 0.5), off(-0.3, 0.3);
+  std::uniform_real_distribution<double> along(0.0, 1.0), off(-0.3, 0.3);
   int with6b = 0, projected = 0;
   for (Polycube& p : fixtures::randomManifoldPolycubes(40)) {
     const std::vector<Vec3i> saddles = verticesOfCase(p, VertexCase::k6b);
@@ -99,13 +99,11 @@ TEST(PolycubeSurface, AcceptsEveryManifoldPolycubeAndProjectsOntoItAtCase6bVerti
       const std::uint16_t squarelets = surface->lut().at(vertex).squarelets();
       for (int i = 0; i < 12; ++i) {
         if (!(squarelets & (1u << i))) continue;
-        const int axis = i / 4, a = (axis + 1) % 3, b = (axis + 2) % 3;
-        const int lo = std::min(a, b), hi = std::max(a, b);
+        const SquareletBounds box = squareletBounds(i);
         for (int k = 0; k < 20; ++k) {
           Vec3d d(0.0);
-          d[lo] = (i & 1 ? 1 : -1) * along(random);
-          d[hi] = (i & 2 ? 1 : -1) * along(random);
-          d[axis] = off(random);
+          for (int a = 0; a < 3; ++a) d[a] = box.min[a] + (box.max[a] - box.min[a]) * along(random);
+          d[box.axis] = off(random);
           const std::optional<Vec3d> q = surface->project(Vec3d(vertex) + d);
           ASSERT_TRUE(q);
           EXPECT_TRUE(surface->lut().locate(*q)) << "vertex " << vertex.x << " " << vertex.y << " " << vertex.z;

@@ -168,41 +168,36 @@ inline double case6bSpineParameter(const Vec3d& p) {
   return (1 - w) * sL + w * sR;
 }
 
-/// Case 6b's squarelets in its canonical frame (the solid side's boundary), each as a box.
-inline constexpr double kCase6bSquarelets[6][2][3] = {
-    {{-0.5, 0, -0.5}, {0, 0, 0}},  // y = 0 below octant 0
-    {{-0.5, -0.5, 0}, {0, 0, 0}},  // z = 0 above octant 0
-    {{0, -0.5, 0}, {0.5, 0, 0}},   // z = 0 above octant 1
-    {{0, 0, -0.5}, {0, 0.5, 0}},   // x = 0 beside octant 3
-    {{0, 0, 0}, {0, 0.5, 0.5}},    // x = 0 beside octant 7
-    {{0, 0, 0}, {0.5, 0, 0.5}},    // y = 0 beside octant 7
-};
-
 /// The first point of case 6b's surface on the ray p + t d, t >= 0; the surface's nearest point
 /// if the ray leaves the cell first (not within reach of the surface).
 inline Vec3d case6bFirstSurfaceHit(const Vec3d& p, const Vec3d& d) {
+  const std::uint16_t squarelets = kVertexConfigurations[kCanonicalOctants[static_cast<int>(VertexCase::k6b)]].squarelets;
+  constexpr double kSlack = 1e-12;
   double best = std::numeric_limits<double>::infinity();
-  Vec3d nearest = p;
-  double nearestDistance = std::numeric_limits<double>::infinity();
-  for (const auto& box : kCase6bSquarelets) {
-    const Vec3d lo(box[0][0], box[0][1], box[0][2]), hi(box[1][0], box[1][1], box[1][2]);
-    const Vec3d clamped = glm::clamp(p, lo, hi);
-    const double distance = glm::length(p - clamped);
-    if (distance == 0) return p;  // on the surface: P is the identity
-    if (distance < nearestDistance) nearestDistance = distance, nearest = clamped;
-    const int axis = lo.x == hi.x ? 0 : lo.y == hi.y ? 1 : 2;
-    if (d[axis] == 0) continue;
-    const double t = -p[axis] / d[axis];
+  for (int i = 0; i < 12; ++i) {
+    if (!(squarelets & (1u << i))) continue;
+    const SquareletBounds box = squareletBounds(i);
+    if (glm::clamp(p, box.min, box.max) == p) return p;  // on the surface: P is the identity
+    if (d[box.axis] == 0) continue;
+    const double t = -p[box.axis] / d[box.axis];
     if (t < 0 || t >= best) continue;
     const Vec3d x = p + t * d;
-    constexpr double kSlack = 1e-12;
     bool inside = true;
     for (int k = 0; k < 3; ++k)
-      if (k != axis && (x[k] < lo[k] - kSlack || x[k] > hi[k] + kSlack)) inside = false;
+      if (k != box.axis && (x[k] < box.min[k] - kSlack || x[k] > box.max[k] + kSlack)) inside = false;
     if (inside) best = t;
   }
-  if (!std::isfinite(best)) return nearest;
-  return glm::clamp(p + best * d, Vec3d(-0.5), Vec3d(0.5));
+  if (std::isfinite(best)) return glm::clamp(p + best * d, Vec3d(-0.5), Vec3d(0.5));
+  Vec3d nearest = p;  // a miss, beyond reach: the surface's nearest point
+  double nearestDistance = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 12; ++i) {
+    if (!(squarelets & (1u << i))) continue;
+    const SquareletBounds box = squareletBounds(i);
+    const Vec3d clamped = glm::clamp(p, box.min, box.max);
+    const double distance = glm::length(p - clamped);
+    if (distance < nearestDistance) nearestDistance = distance, nearest = clamped;
+  }
+  return nearest;
 }
 
 /// Case 6b in its canonical frame (solid octants 0, 1, 3, 7).

@@ -100,6 +100,22 @@ constexpr int squareletIndex(int octant, int axis) {
   return 4 * axis + ((octant >> lo) & 1) + 2 * ((octant >> hi) & 1);
 }
 
+/// Squarelet `index` as a box relative to the vertex: zero thickness on its axis, [0, 1/2] or
+/// [-1/2, 0] on the other two as its index's bits say (the inverse of squareletIndex).
+struct SquareletBounds {
+  int axis = 0;
+  Vec3d min{0.0}, max{0.0};
+};
+inline SquareletBounds squareletBounds(int index) {
+  SquareletBounds box;
+  box.axis = index / 4;
+  const int a = (box.axis + 1) % 3, b = (box.axis + 2) % 3;
+  const int lo = a < b ? a : b, hi = a < b ? b : a;
+  (index & 1 ? box.max : box.min)[lo] = (index & 1) ? 0.5 : -0.5;
+  (index & 2 ? box.max : box.min)[hi] = (index & 2) ? 0.5 : -0.5;
+  return box;
+}
+
 /// The 12-bit mask of the squarelets of a configuration.
 constexpr std::uint16_t squareletMask(std::uint8_t octants) {
   std::uint16_t mask = 0;
