@@ -22,10 +22,11 @@ namespace detail {
 
 /// Whether the projection line `line` (a segment, t in [0, 1]) meets the surface again past its
 /// first hit at t: a line keeps one distance, so the second crossing is lost and the side past it
-/// misread.
-inline bool crossesAgain(const MeshBvh& query, Rayd line, double t) {
+/// misread. `surface`: the mesh's TriangleBvh, or the TrianglesInBox of the line's cell.
+template <class Surface>
+bool crossesAgain(const Surface& surface, Rayd line, double t) {
   line.tmin = t * (1 + 1e-9) + 1e-9;
-  return line.tmin < line.tmax && query.bvh.anyHit(line);
+  return line.tmin < line.tmax && surface.anyHit(line);
 }
 
 /// The projection line of a face point (cell units) as a world-space segment, t in [0, 1].
@@ -37,9 +38,10 @@ inline Rayd projectionLine(const projection::CellProjection<double>& proj, int f
 }  // namespace detail
 
 /// How many of the S x S projection lines per domain face meet the surface more than once;
-/// stops counting past `limit`.
-inline int linesCrossedTwice(const MeshBvh& query, const projection::CellProjection<double>& proj,
-                             const Vec3d& cellMin, double h, int S, int limit) {
+/// stops counting past `limit`. `surface`: the mesh's TriangleBvh, or the cell's TrianglesInBox.
+template <class Surface>
+int linesCrossedTwice(const Surface& surface, const projection::CellProjection<double>& proj,
+                      const Vec3d& cellMin, double h, int S, int limit) {
   int count = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
     if (!(proj.domainFaces() & (1u << f))) continue;
@@ -47,8 +49,8 @@ inline int linesCrossedTwice(const MeshBvh& query, const projection::CellProject
       for (int a = 0; a < S; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (S - 1), double(b) / (S - 1)));
         const Rayd line = detail::projectionLine(proj, f, onFace, cellMin, h);
-        const Hitd hit = query.bvh.closestHit(line);
-        if (hit.valid() && detail::crossesAgain(query, line, hit.t) && ++count > limit) return count;
+        const Hitd hit = surface.closestHit(line);
+        if (hit.valid() && detail::crossesAgain(surface, line, hit.t) && ++count > limit) return count;
       }
   }
   return count;
@@ -80,16 +82,17 @@ inline std::vector<projection::CellProjection<double>> centreCandidates(std::uin
 
 /// CentreOfProjection::FewestCrossings: the candidate (centreCandidates) with the fewest lines
 /// crossed twice on a 9 x 9 sampling of each domain face, the first, thus nearest the canonical
-/// point, among equals; the search ends at the first candidate with none.
-inline projection::CellProjection<double> fewestCrossingsProjection(std::uint8_t configuration,
-                                                                    const MeshBvh& query,
-                                                                    const Vec3d& cellMin, double h) {
+/// point, among equals; the search ends at the first candidate with none. `surface`: the mesh's
+/// TriangleBvh, or the cell's TrianglesInBox.
+template <class Surface>
+projection::CellProjection<double> fewestCrossingsProjection(std::uint8_t configuration, const Surface& surface,
+                                                             const Vec3d& cellMin, double h) {
   constexpr int kLines = 9;
   const auto candidates = centreCandidates(configuration);
   std::size_t best = 0;
   int fewest = std::numeric_limits<int>::max();
   for (std::size_t i = 0; i < candidates.size() && fewest > 0; ++i) {
-    const int crossed = linesCrossedTwice(query, candidates[i], cellMin, h, kLines, fewest - 1);
+    const int crossed = linesCrossedTwice(surface, candidates[i], cellMin, h, kLines, fewest - 1);
     if (crossed < fewest) {
       fewest = crossed;
       best = i;

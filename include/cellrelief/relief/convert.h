@@ -155,7 +155,7 @@ inline constexpr double kPastMidPlaneSamples = 2.0;
 /// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
 /// and keeps the nearest hit (for planar projections, one past the mid-plane as well:
 /// kPastMidPlaneSamples); counts the lines that meet the surface again past it.
-inline void sampleFaces(const TriangleMesh& mesh, const MeshRayQuery& query, const ConvertOptions& options,
+inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& surface, const ConvertOptions& options,
                         const Signals& signals, const Vec3d& cellMin, double h, int T, CellSamples& out) {
   const int faces = std::popcount(unsigned(out.proj.domainFaces()));
   out.distance.assign(std::size_t(faces) * T * T, std::numeric_limits<float>::quiet_NaN());
@@ -177,13 +177,13 @@ inline void sampleFaces(const TriangleMesh& mesh, const MeshRayQuery& query, con
         const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
         Rayd extended = line;
         extended.tmax = 1 + pastEnd;
-        const Hitd hit = query.bvh.closestHit(extended);
+        const Hitd hit = surface.closestHit(extended);
         if (!hit.valid()) continue;
         const std::size_t k = first + std::size_t(b) * T + a;
         out.distance[k] = float(hit.t * glm::length(out.proj.lineEnd(f, onFace) - onFace));
         if (hit.t <= 1) {
           anyWithinLine = true;
-          if (crossesAgain(query, line, hit.t)) ++out.linesCrossedTwice;
+          if (crossesAgain(surface, line, hit.t)) ++out.linesCrossedTwice;
         }
         sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                       signals.colors ? &out.color[k] : nullptr);
@@ -218,15 +218,17 @@ inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex
   const CentreOfProjection first =
       options.centre == CentreOfProjection::FewestCrossings ? CentreOfProjection::CellCentre : options.centre;
   out.proj = projection::chooseProjection<double>(cell.configuration, first, centroid);
-  sampleFaces(mesh, query, options, signals, cellMin, h, T, out);
+  // Every projection line lies in the cell: only the triangles that meet it can be hit.
+  const TrianglesInBox<double> surface(query.bvh, complex.cellBoxWS(cell.ijk));
+  sampleFaces(mesh, surface, options, signals, cellMin, h, T, out);
   if (options.centre == CentreOfProjection::FewestCrossings && out.linesCrossedTwice > 0) {
-    const auto better = fewestCrossingsProjection(cell.configuration, query, cellMin, h);
+    const auto better = fewestCrossingsProjection(cell.configuration, surface, cellMin, h);
     if (better.point != out.proj.point) {
       // The search saw 9 x 9 lines per face; keep the canonical samples unless the T x T agree.
       CellSamples moved;
       moved.proj = better;
       moved.centreMoved = true;
-      sampleFaces(mesh, query, options, signals, cellMin, h, T, moved);
+      sampleFaces(mesh, surface, options, signals, cellMin, h, T, moved);
       if (moved.linesCrossedTwice < out.linesCrossedTwice) out = std::move(moved);
     }
   }

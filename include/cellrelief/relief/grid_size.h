@@ -84,6 +84,7 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
     sampleCellSurface(complex, mesh.triangles, cell, density, 16 * T * T, s.samples);
     if (s.samples.empty()) return;
     const Vec3d cellMinWS = complex.cellMinWS(cell.ijk);
+    const TrianglesInBox<double> surface(query.bvh, complex.cellBoxWS(cell.ijk));
     auto occludedArea = [&](const projection::CellProjection<double>& proj) {
       double area = 0;
       for (const SurfaceSample& sample : s.samples) {
@@ -93,7 +94,7 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
         if (glm::dot(dir, dir) == 0) continue;
         // The segment from the sample to its face point, in world space (t in (0, 1]).
         const Rayd segment(cellMinWS + h * sample.p, h * dir, kSelfOffset, 1.0);
-        if (query.bvh.anyHit(segment, sample.triangle)) area += sample.weight;
+        if (surface.anyHit(segment, sample.triangle)) area += sample.weight;
       }
       return area;
     };
@@ -103,7 +104,7 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
       sum.occludedArea = occludedArea(projection::chooseProjection<double>(cell.configuration));
       if (sum.occludedArea > 0)
         sum.occludedArea = std::min(sum.occludedArea,
-                                    occludedArea(fewestCrossingsProjection(cell.configuration, query, cellMinWS, h)));
+                                    occludedArea(fewestCrossingsProjection(cell.configuration, surface, cellMinWS, h)));
     } else {
       sum.occludedArea = occludedArea(
           projection::chooseProjection<double>(cell.configuration, options.centre, sampleCentroid(s.samples)));
