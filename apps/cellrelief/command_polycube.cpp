@@ -30,6 +30,7 @@ struct PolycubeCommandOptions {
   std::string mesh, output, grid = "auto", cubes, energy = "extended-mips", signal = "grid";
   int sweeps = 400;
   int texels = 16;
+  bool removeCase6b = false;
 };
 
 /// The mesh signal --signal names; nothing for the grid. Checked before any work is done.
@@ -118,6 +119,8 @@ void writeDistortionTable(const PolycubeCommandOptions& o, const TriangleMesh& m
 }
 
 int runPolycube(const PolycubeCommandOptions& o) {
+  if (o.removeCase6b && !o.cubes.empty())
+    throw Error(ErrorKind::InvalidArgument, "--remove-case-6b changes an automatic polycube only, not a --cubes file");
   const TriangleMesh mesh = io::readMesh(o.mesh);
   std::printf("mesh          %s: %zu triangles\n", o.mesh.c_str(), mesh.triangleCount());
   polycube::PolycubeDomain domain;
@@ -127,10 +130,12 @@ int runPolycube(const PolycubeCommandOptions& o) {
   } else {
     polycube::PolycubeOptions options;
     options.cubesPerSide = parseGridSize(o.grid);
+    options.removeCase6b = o.removeCase6b;
     domain = withPath(o.mesh, [&] { return polycube::automaticDomain(mesh, options); });
     for (const polycube::PolycubeTrial& t : domain.search->trials)
-      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness), %zu case-6b vertices, %s\n",
-                  t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bLeft,
+      std::printf("lattice       N = %3d: %5zu cubes (%zu added for manifoldness, %zu toggled for case 6b), %zu "
+                  "case-6b vertices, %s\n",
+                  t.cubesPerSide, t.cubes, t.addedForManifold, t.case6bToggled, t.case6bLeft,
                   t.genus ? ("genus " + std::to_string(*t.genus)).c_str() : "not a closed manifold");
     std::printf("chosen        N = %d, %.2f s\n", domain.search->cubesPerSide, domain.search->seconds);
   }
@@ -239,6 +244,9 @@ Command addPolycubeCommand(CLI::App& app) {
                   "What T2 holds: grid (the paper's pattern), normals (the mesh's, which a renderer shades with), "
                   "shading or color (the mesh's vertex colours)")
       ->capture_default_str();
+  cmd->add_flag("--remove-case-6b", o->removeCase6b,
+               "Toggle cubes of the automatic polycube to remove its vertices of case 6b, whose projection "
+               "stretches the most (off: the toggled cubes usually cost the map more)");
   cmd->add_option("--texels", o->texels, "Texels per squarelet side (S), a power of two")
       ->check(CLI::IsMember({1, 2, 4, 8, 16, 32, 64, 128, 256}))
       ->capture_default_str();

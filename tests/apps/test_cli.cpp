@@ -190,14 +190,19 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
 // A cube file may hold a case-6b vertex: four cubes in a skew path, whose vertex (1, 1, 1) is
 // one, under a mesh that is their surface refined and warped. The command maps it without a fold,
 // writes everything, and `render` draws the folder.
-TEST(Cli, PolycubeTakesACubeFileWithACase6bVertex) {
-  test::TempDir dir;
+/// Four cubes in a skew path (a saddle vertex of case 6b), their surface refined and warped.
+void writeWarpedSkewPath(const std::filesystem::path& file) {
   TriangleMesh mesh =
       polycube::Polycube(std::vector<Vec3i>{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}}).surfaceMesh();
   splitTrianglesInFour(mesh, 2, [](const Vec3f& a, const Vec3f& b) { return 0.5f * (a + b); });
   for (Vec3f& x : mesh.positions)
     x += 0.08f * Vec3f(std::sin(2.3f * x.y + 0.4f), std::sin(1.9f * x.z + 1.1f), std::sin(2.7f * x.x + 2.0f));
-  io::writeMesh(mesh, dir / "skew.obj");
+  io::writeMesh(mesh, file);
+}
+
+TEST(Cli, PolycubeTakesACubeFileWithACase6bVertex) {
+  test::TempDir dir;
+  writeWarpedSkewPath(dir / "skew.obj");
   test::writeBytes(dir / "skew.txt", "frame 0 0 0 1\n0 0 0\n1 0 0\n1 1 0\n1 1 1\n");
   const Result r = run("polycube " + (dir / "skew.obj").string() + " --cubes " + (dir / "skew.txt").string() +
                        " --texels 8 -o " + (dir / "out").string());
@@ -209,6 +214,28 @@ TEST(Cli, PolycubeTakesACubeFileWithACase6bVertex) {
   if (rendered.status != 0 && !test::inCI()) return;  // no Vulkan here
   EXPECT_EQ(rendered.status, 0) << rendered.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "render.png"));
+}
+
+// The automatic polycube of the skew path keeps its 6b vertex; --remove-case-6b toggles a cube
+// to remove it, and is refused with a cube file (which it would not change).
+TEST(Cli, PolycubeRemovesCase6bVerticesWhenAsked) {
+  test::TempDir dir;
+  writeWarpedSkewPath(dir / "skew.obj");
+  const std::string common = "polycube " + (dir / "skew.obj").string() + " --texels 8 --sweeps 50";
+  const Result kept = run(common + " -o " + (dir / "kept").string());
+  ASSERT_EQ(kept.status, 0) << kept.output;
+  EXPECT_TRUE(test::hasWords(kept.output, "0 toggled for case 6b), 1 case-6b vertices")) << kept.output;
+  EXPECT_TRUE(test::hasWords(kept.output, "6b: 1")) << kept.output;
+  const Result removed = run(common + " --remove-case-6b -o " + (dir / "removed").string());
+  ASSERT_EQ(removed.status, 0) << removed.output;
+  EXPECT_TRUE(test::hasWords(removed.output, "1 toggled for case 6b), 0 case-6b vertices")) << removed.output;
+  EXPECT_TRUE(test::hasWords(removed.output, "6b: 0")) << removed.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "removed" / "polycube.txt"));
+  const Result refused = run(common + " --remove-case-6b --cubes " + (dir / "kept" / "polycube.txt").string() +
+                             " -o " + (dir / "refused").string());
+  EXPECT_EQ(refused.status, 1) << refused.output;
+  EXPECT_TRUE(test::hasWords(refused.output, "--remove-case-6b changes an automatic polycube only")) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused"));
 }
 
 // Flat meshes convert (as a thin closed slab), and so do surfaces lying in planes of the grid

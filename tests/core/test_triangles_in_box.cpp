@@ -21,7 +21,8 @@ namespace {
 TriangleMesh unitCube() {
   TriangleMesh m;
   for (int i = 0; i < 8; ++i) m.positions.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-  const unsigned quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const unsigned quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     m.triangles.emplace_back(q[0], q[1], q[2]);
     m.triangles.emplace_back(q[0], q[2], q[3]);
@@ -30,7 +31,7 @@ TriangleMesh unitCube() {
 }
 
 struct Agreement {
-  int segments = 0, hits = 0;  ///< segments tried, of them hitting
+  int segments = 0, hits = 0;             ///< segments tried, of them hitting
   int cellsWithTriangles = 0, local = 0;  ///< and of them, those answered from their own triangles
 };
 
@@ -53,7 +54,8 @@ Agreement compare(const TriangleMesh& mesh, int n, int perBox, std::uint32_t see
         const Aabbd cell(lo, lo + Vec3d(h));
         const TrianglesInBox<double> inBox(whole, cell);
         got.cellsWithTriangles += inBox.triangleCount() > 0;
-        got.local += inBox.triangleCount() > 0 && inBox.triangleCount() <= TrianglesInBox<double>::kMaxTriangles;
+        got.local += inBox.triangleCount() > 0 &&
+                     inBox.triangleCount() <= TrianglesInBox<double>::kMaxTriangles;
         // Cells without triangles: one segment is enough.
         const int segments = inBox.triangleCount() == 0 ? 1 : perBox;
         for (int s = 0; s < segments; ++s) {
@@ -70,7 +72,8 @@ Agreement compare(const TriangleMesh& mesh, int n, int perBox, std::uint32_t see
           const Hitd expected = whole.closestHit(ray), hit = inBox.closestHit(ray);
           ++got.segments;
           got.hits += expected.valid();
-          EXPECT_EQ(hit.valid(), expected.valid()) << "cell " << i << " " << j << " " << k << ", segment " << s;
+          EXPECT_EQ(hit.valid(), expected.valid())
+              << "cell " << i << " " << j << " " << k << ", segment " << s;
           EXPECT_EQ(inBox.anyHit(ray), whole.anyHit(ray));
           if (!expected.valid() || !hit.valid()) continue;
           EXPECT_EQ(hit.t, expected.t);
@@ -86,10 +89,13 @@ TEST(TrianglesInBox, AgreesWithTheWholeTreeInTheCellsOfARealMesh) {
   const TriangleMesh bunny = io::readMesh(path);
   for (const int n : {4, 16, 48}) {
     const Agreement got = compare(bunny, n, n >= 48 ? 3 : 60, 11 + n);
-    std::printf("bunny, N = %d: %d segments, %d hit; %d of the %d cells with triangles answered from them\n", n,
-                got.segments, got.hits, got.local, got.cellsWithTriangles);
+    std::printf(
+        "bunny, N = %d: %d segments, %d hit; %d of the %d cells with triangles answered from "
+        "them\n",
+        n, got.segments, got.hits, got.local, got.cellsWithTriangles);
     EXPECT_GT(got.hits, got.segments / 50);
-    if (n == 48) EXPECT_GT(got.local, got.cellsWithTriangles / 2);  // the local path is what is tested
+    if (n == 48)
+      EXPECT_GT(got.local, got.cellsWithTriangles / 2);  // the local path is what is tested
   }
 }
 
@@ -121,9 +127,11 @@ TEST(TrianglesInBox, AgreesOnSegmentsInTheFacePlanesOfACube) {
 TEST(TrianglesInBox, AgreesFarFromTheOriginAndAtTinyScales) {
   // A displaced torus moved to 1e5 and shrunk to 1e-4: the plane test's slack scales with the
   // coordinates, the cells with the mesh.
-  for (const auto& [scale, offset] : {std::pair{1e-4, 0.0}, std::pair{1.0, 1e5}, std::pair{1e-3, 1e2}}) {
+  for (const auto& [scale, offset] :
+       {std::pair{1e-4, 0.0}, std::pair{1.0, 1e5}, std::pair{1e-3, 1e2}}) {
     TriangleMesh torus = makeDisplacedTorus({.ringSegments = 96, .tubeSegments = 48});
-    for (Vec3f& p : torus.positions) p = Vec3f(Vec3d(p) * scale + Vec3d(offset, -offset, 0.5 * offset));
+    for (Vec3f& p : torus.positions)
+      p = Vec3f(Vec3d(p) * scale + Vec3d(offset, -offset, 0.5 * offset));
     const Agreement got = compare(torus, 16, 20, 5);
     EXPECT_GT(got.hits, got.segments / 20) << scale << " " << offset;
     EXPECT_GT(got.local, got.cellsWithTriangles / 2);
