@@ -423,8 +423,9 @@ class TrianglesInBox {
 
   /// As TriangleBvh::closestHit.
   Hit<T> closestHit(const Ray<T>& ray) const {
-    if (mWholeTree || !inside(ray)) return mBvh.closestHit(ray);
+    if (mWholeTree) return mBvh.closestHit(ray);
     const Segment segment(ray);
+    if (!segment.within(mBox)) return mBvh.closestHit(ray);
     Hit<T> best;
     best.t = ray.tmax;
     for (const Plane& plane : mPlanes)
@@ -434,8 +435,9 @@ class TrianglesInBox {
   }
   /// As TriangleBvh::anyHit.
   bool anyHit(const Ray<T>& ray, std::uint32_t skip = kInvalidId) const {
-    if (mWholeTree || !inside(ray)) return mBvh.anyHit(ray, skip);
+    if (mWholeTree) return mBvh.anyHit(ray, skip);
     const Segment segment(ray);
+    if (!segment.within(mBox)) return mBvh.anyHit(ray, skip);
     Hit<T> hit;
     hit.t = ray.tmax;
     for (const Plane& plane : mPlanes)
@@ -472,6 +474,9 @@ class TrianglesInBox {
     explicit Segment(const Ray<T>& ray)
         : from(ray.at(ray.tmin)), to(ray.at(ray.tmax)), lo(glm::min(from, to)), hi(glm::max(from, to)),
           size(std::max(largestMagnitude(from), largestMagnitude(to))) {}
+    /// Whether the segment lies in `box` (a box is convex: its two ends do); an infinite ray's
+    /// far end is not a point, so it never does.
+    bool within(const Aabb<T>& box) const { return box.contains(from) && box.contains(to); }
     bool mayCross(const Plane& plane) const {
       if (lo.x > plane.box.max.x || lo.y > plane.box.max.y || lo.z > plane.box.max.z || hi.x < plane.box.min.x ||
           hi.y < plane.box.min.y || hi.z < plane.box.min.z)
@@ -482,10 +487,6 @@ class TrianglesInBox {
     }
   };
 
-  /// Whether the ray's segment [tmin, tmax] lies in the box (a box is convex: its two ends do).
-  bool inside(const Ray<T>& ray) const {
-    return std::isfinite(ray.tmax) && mBox.contains(ray.at(ray.tmin)) && mBox.contains(ray.at(ray.tmax));
-  }
   bool intersect(const Ray<T>& ray, std::uint32_t slot, Hit<T>& hit) const {
     const Vec3<T>& v0 = mBvh.corner(slot);
     return intersectTriangle(ray.origin, ray.direction, ray.tmin, v0, v0 + mBvh.edge1(slot),

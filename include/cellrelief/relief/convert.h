@@ -218,7 +218,9 @@ inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex
   const CentreOfProjection first =
       options.centre == CentreOfProjection::FewestCrossings ? CentreOfProjection::CellCentre : options.centre;
   out.proj = projection::chooseProjection<double>(cell.configuration, first, centroid);
-  // Every projection line lies in the cell: only the triangles that meet it can be hit.
+  // Every projection line lies in the cell: only the triangles that meet it can be hit. Not
+  // CellComplex::cellTriangles: the complex found those on snapped positions, which may miss a
+  // triangle that touches the cell.
   const TrianglesInBox<double> surface(query.bvh, complex.cellBoxWS(cell.ijk));
   sampleFaces(mesh, surface, options, signals, cellMin, h, T, out);
   if (options.centre == CentreOfProjection::FewestCrossings && out.linesCrossedTwice > 0) {
