@@ -76,6 +76,8 @@ endif()
 
 # ---- optional --------------------------------------------------------------------------------------
 cellrelief_optional(Ceres DEBIAN libceres-dev FIND Ceres CONFIG)
+# Google Highway: the SIMD packet tracer (cellrelief::trace_packets, trace/packet_tracer.h).
+cellrelief_optional(hwy DEBIAN libhwy-dev FIND hwy CONFIG)
 cellrelief_optional(CGAL DEBIAN libcgal-dev FIND CGAL CONFIG)
 cellrelief_optional(Embree DEBIAN libembree-dev FIND embree 3 CONFIG FOUND_VAR embree_FOUND)
 cellrelief_optional(OpenGL DEBIAN "libegl-dev libegl1-mesa-dev" FIND OpenGL COMPONENTS OpenGL EGL

@@ -15,6 +15,7 @@ packages=(
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libglfw3-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslc
   xvfb xauth
+  libhwy-dev
   clang-14 libfuzzer-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )

@@ -2,7 +2,8 @@
 /// @file bench_trace.cpp
 /// Benchmark: ray casting of relief models, run time against error. For each mesh it sweeps the
 /// grid size N, the texels T, the linear and binary steps and empty-space skipping (off, in parallel
-/// and planar cells only, or in the central ones too); for each point
+/// and planar cells only, or in the central ones too), and the SIMD packet tracer (packet_tracer.h;
+/// the linear search without skipping, 16 rays at a time, when built with Highway); for each point
 /// it measures coherent primary rays and incoherent secondary rays (Mrays/s, same rays and threads
 /// for everyone), the depth error against Embree on the original mesh (median and 95th percentile,
 /// in sample spacings and as a fraction of the diagonal), hit/miss disagreement and the bytes of the
@@ -27,6 +28,9 @@
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/camera.h>
 #include <cellrelief/trace/relief_tracer.h>
+#if CELLRELIEF_HAS_PACKETS
+#include <cellrelief/trace/packet_tracer.h>
+#endif
 #include <openvdb/tools/RayIntersector.h>
 #include <tbb/enumerable_thread_specific.h>
 
@@ -138,11 +142,38 @@ struct LevelSetTracer {
 
 struct SweepPoint {
   int n = 0, texels = 0, minLinear = 4, maxLinear = 64, binary = 8;
-  int skip = 2;  ///< empty-space skipping: 0 off, 1 parallel and planar cells, 2 central cells too
+  /// empty-space skipping: 0 off, 1 parallel and planar cells, 2 central cells too; 3: SIMD packets
+  /// (skipping off, the same answers as 0)
+  int skip = 2;
   int bits = 16;  ///< distance quantization
 };
 
-const char* skipName(int skip) { return skip == 0 ? "off" : skip == 1 ? "flat" : "all"; }
+const char* skipName(int skip) { return skip == 0 ? "off" : skip == 1 ? "flat" : skip == 2 ? "all" : "pkt"; }
+
+#if CELLRELIEF_HAS_PACKETS
+constexpr bool kPackets = true;
+/// Rays per block of the packet tracer: one sort gathers a block's rays by cell into packets.
+constexpr std::size_t kPacketBlock = 4096;
+
+/// traceAll for the packet tracer: blocks of rays in parallel.
+double traceAllPackets(const std::vector<Rayf>& rays, std::vector<float>& t, int repeats,
+                       const trace::ReliefPacketTracer<>& tracer) {
+  t.assign(rays.size(), 0);
+  std::vector<trace::ReliefHit<float>> hits(rays.size());
+  double best = INFINITY;
+  for (int r = 0; r < repeats; ++r) {
+    best = std::min(best, bench::medianSeconds(1, [&] {
+      parallelForRange(0, rays.size(), [&](std::size_t b, std::size_t e) {
+        tracer.intersect(std::span(rays).subspan(b, e - b), std::span(hits).subspan(b, e - b));
+        for (std::size_t i = b; i < e; ++i) t[i] = hits[i].t;
+      }, kPacketBlock);
+    }));
+  }
+  return best;
+}
+#else
+constexpr bool kPackets = false;
+#endif
 
 /// Field evaluations and skip steps per ray, over every ray (hits and misses).
 double meanSteps(const trace::ReliefTracerf& tracer, const std::vector<Rayf>& rays) {
@@ -230,6 +261,10 @@ int run(int argc, char** argv) {
                        "p95_error_diag,disagreements_per_million,secondary_disagreements_per_million");
   std::printf("threads: %d; primary rays %dx%d from a framing camera; secondary rays: random outer "
               "hemisphere directions from points on the surface, shuffled\n", options.threads, size, size);
+#if CELLRELIEF_HAS_PACKETS
+  std::printf("skip pkt: the SIMD packet tracer on %s (Highway), blocks of %zu rays\n",
+              trace::ReliefPacketTracer<>::instructionSet(), kPacketBlock);
+#endif
   for (const auto& [name, mesh] : meshes) {
     const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
     const double diagonal = bounds.diagonal();
@@ -262,9 +297,10 @@ int run(int argc, char** argv) {
     const std::vector<int> texelChoices = quick ? std::vector<int>{17} : std::vector<int>{17, 33, 65};
     for (int n : grids)
       for (int texels : texelChoices) {
-        for (int skip : {2, 1, 0}) sweep.push_back({n, texels, 4, 64, 8, skip});
+        const std::vector<int> skips = kPackets ? std::vector<int>{2, 1, 0, 3} : std::vector<int>{2, 1, 0};
+        for (int skip : skips) sweep.push_back({n, texels, 4, 64, 8, skip});
         if (!quick) {
-          for (int skip : {2, 1, 0}) sweep.push_back({n, texels, 2, 32, 6, skip});
+          for (int skip : skips) sweep.push_back({n, texels, 2, 32, 6, skip});
           // 8-bit distances: half the bytes, for the memory curve.
           sweep.push_back({n, texels, 4, 64, 8, 2, 8});
         }
@@ -289,13 +325,19 @@ int run(int argc, char** argv) {
         modelBits = p.bits;
       }
       const trace::TraceOptions to{.minLinearSteps = p.minLinear, .maxLinearSteps = p.maxLinear,
-                                   .binarySteps = p.binary, .skipEmptySpace = p.skip > 0,
-                                   .skipCentralCells = p.skip > 1};
+                                   .binarySteps = p.binary, .skipEmptySpace = p.skip == 1 || p.skip == 2,
+                                   .skipCentralCells = p.skip == 2};
       const trace::ReliefTracerf tracer(*model, to);
       auto traceOne = [&](const Rayf& r) { return tracer.intersect(r).t; };
-      const double s1 = traceAll(primary.rays, t, repeats, traceOne);
+      auto traceSet = [&](const std::vector<Rayf>& rays) {
+#if CELLRELIEF_HAS_PACKETS
+        if (p.skip == 3) return traceAllPackets(rays, t, repeats, trace::ReliefPacketTracer<>(*model, to));
+#endif
+        return traceAll(rays, t, repeats, traceOne);
+      };
+      const double s1 = traceSet(primary.rays);
       const Accuracy a = accuracy(primary.truth, t);
-      const double s2 = traceAll(secondary.rays, t, repeats, traceOne);
+      const double s2 = traceSet(secondary.rays);
       const Accuracy a2 = accuracy(secondary.truth, t);
       const double spacing = model->cellSizeWS / (model->texels - 1);
       const std::size_t bytes = model->byteSize() + tracer.accelerationBytes();

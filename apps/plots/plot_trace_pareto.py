@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """bench_trace's run time against error: primary rays per second over the median depth error of
-every relief setting, its Pareto front, OpenVDB's level sets and Embree (exact, drawn at 1e-7).
+every relief setting (the SIMD packet tracer's marked), its Pareto front, OpenVDB's level sets and Embree (exact, drawn at 1e-7).
 
     plot_trace_pareto.py trace.csv trace_pareto.png
 """
@@ -17,6 +17,12 @@ for i, ((mesh,), mesh_rows) in enumerate(groups(rows, "mesh")):
     if relief:
         axis.scatter(*zip(*relief), s=12, color=colour, alpha=0.35, label=f"{mesh}: relief settings")
         axis.plot(*zip(*pareto(relief)), color=colour, lw=2, label=f"{mesh}: relief, Pareto front")
+    # skip 3: the SIMD packet tracer (bench_trace.cpp), also part of the relief settings above
+    packets = [(r["median_error_diag"], r["primary_mrays"]) for r in mesh_rows
+               if r["method"] == "relief" and int(r["skip"]) == 3]
+    if packets:
+        axis.scatter(*zip(*packets), s=22, marker="D", facecolor="none", edgecolor=colour,
+                     label=f"{mesh}: relief, SIMD packets")
     vdb = sorted((r["median_error_diag"], r["primary_mrays"]) for r in mesh_rows if r["method"] == "openvdb")
     if vdb:
         axis.plot(*zip(*vdb), color=colour, ls="--", marker="s", ms=5, label=f"{mesh}: OpenVDB level sets")

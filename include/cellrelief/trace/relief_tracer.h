@@ -108,6 +108,14 @@ class ReliefTracer {
   /// surface from a relief that has none there (bench_silhouettes).
   std::optional<T> fieldAt(const Vec3<T>& pointWS) const;
 
+  /// For tracers that run the search elsewhere (the packet tracer, packet_tracer.h): the cell
+  /// index of each grid cell (-1 for white and black ones), and the hit record intersect()
+  /// returns for a search that met the surface at t in cell `index` (where the point projects:
+  /// fp), shaded as intersect() shades it.
+  const openvdb::Int32Grid& cellGrid() const { return *mGrid; }
+  Hit finishHit(std::int32_t index, const Ray<T>& ray, T t, const projection::FacePoint<T>& fp,
+                std::uint32_t steps, bool shadeHit) const;
+
  private:
   /// The texel width is chosen here, once per ray: below, reading a sample has no branch on it.
   Hit trace(const Ray<T>& input, bool shadeHit) const {
@@ -320,6 +328,14 @@ class ReliefTracer {
   /// neighbouring samples (the local surface of the distance map).
   template <class Codes, class P>
   void shade(const Codes& codes, const P& proj, const relief::CellRecord& r, Hit& hit) const;
+
+  /// shade(), and the ray's reverse direction where the samples give no normal.
+  template <class Codes, class P>
+  void shadeFound(const Codes& codes, const P& proj, const relief::CellRecord& r, const Ray<T>& ray,
+                  Hit& hit) const {
+    shade(codes, proj, r, hit);
+    if (hit.normal == Vec3f(0)) hit.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
+  }
 
   const relief::ReliefModel& mModel;
   TraceOptions mOptions;

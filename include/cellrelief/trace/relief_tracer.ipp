@@ -40,6 +40,19 @@ auto ReliefTracer<T, Search>::fieldAt(const Vec3<T>& pointWS) const -> std::opti
 }
 
 template <Real T, SearchPolicy Search>
+auto ReliefTracer<T, Search>::finishHit(std::int32_t index, const Ray<T>& ray, T t,
+                                        const projection::FacePoint<T>& fp, std::uint32_t steps,
+                                        bool shadeHit) const -> Hit {
+  Hit hit = makeHit(index, ray, t, fp, steps);
+  if (!shadeHit) return hit;
+  const relief::CellRecord& record = mModel.cells[index];
+  mModel.visitDistanceCodes([&](const auto& codes) {
+    record.projection<T>().visit([&](const auto& p) { shadeFound(codes, p, record, ray, hit); });
+  });
+  return hit;
+}
+
+template <Real T, SearchPolicy Search>
 template <class Codes>
 auto ReliefTracer<T, Search>::traceWith(const Codes& codes, const Ray<T>& input,
                                         bool shadeHit) const -> Hit {
@@ -71,10 +84,7 @@ auto ReliefTracer<T, Search>::traceWith(const Codes& codes, const Ray<T>& input,
       const CellFrame frame = cellFrame(ray, record);
       Hit hit = proj.visit([&](const auto& p) {
         Hit found = searchCell(codes, p, record, index, ray, frame, walk.tEntry(), walk.tExit(), side);
-        if (found.valid() && shadeHit) {
-          shade(codes, p, record, found);
-          if (found.normal == Vec3f(0)) found.normal = Vec3f(-glm::normalize(Vec3d(ray.direction)));
-        }
+        if (found.valid() && shadeHit) shadeFound(codes, p, record, ray, found);
         return found;
       });
       steps += hit.steps;

@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: MIT
+/// @file packet_tracer.h
+/// Ray casting of a relief model in SIMD packets: a stream of rays is walked cell by cell, the
+/// rays that stand in the same grey cell are gathered, and up to kPacketLanes of them at a time
+/// are searched together, one ray per lane (packet_search.h). The stream is sorted by cell at
+/// every step of the walk, so coherent primary rays fill the lanes, and incoherent secondary
+/// rays fill them wherever several meet in one cell.
+///
+/// It answers what ReliefTracer<float, Search> answers with the same options and skipping off
+/// (reference()): the paper's linear + binary search in every cell, the side of the surface
+/// carried across cell faces, the hit shaded the same way. Each lane's arithmetic is the scalar
+/// tracer's, so every hit agrees bit for bit (t, cell, face, steps; tests/trace).
+///
+/// Why no skipping: the empty-space walk (empty_space.h) descends and climbs a pyramid with a
+/// different path per ray; in lanes it would run as long as the slowest lane. The linear search
+/// has one shape for every ray in a cell (a number of samples, then a fixed bisection), which is
+/// what lanes run well.
+///
+/// SIMD through Google Highway rather than std::experimental::simd: Highway compiles the search
+/// once per instruction set and picks the best the CPU has at run time (SSE4, AVX2, AVX-512 on
+/// x86; NEON, SVE on Arm), so neither this library nor its users need -march flags, and a
+/// test can run every instruction set the machine has; std::experimental::simd follows the
+/// compiler's flags only, and has no gather. The price is a compiled target: link
+/// cellrelief::trace_packets (opt-in, like cellrelief::indirection_ceres).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "cellrelief/core/error.h"
+#include "cellrelief/trace/packet_search.h"
+#include "cellrelief/trace/relief_tracer.h"
+
+namespace cellrelief::trace {
+
+template <SearchPolicy Search = BalancedSearch>
+class ReliefPacketTracer {
+ public:
+  using Hit = ReliefHit<float>;
+
+  /// The tracer reads the model in place: it must outlive the tracer (a temporary is refused).
+  ReliefPacketTracer(relief::ReliefModel&&, const TraceOptions& = {}) = delete;
+  /// The options' skipping flags are ignored (see above).
+  explicit ReliefPacketTracer(const relief::ReliefModel& model, const TraceOptions& options = {})
+      : mReference(model, withoutSkipping(options)), mOpenModel(model.openSurface()) {
+    // The gathers of 16-bit codes take 32-bit byte offsets.
+    const std::size_t bytes =
+        std::size_t(model.layerCount()) * std::size_t(model.texels) * std::size_t(model.texels) * 2;
+    mGather16 = model.distanceCodec.bits == 16 && bytes > 0 && bytes < (std::size_t(1) << 31);
+  }
+
+  /// The scalar tracer this one agrees with, ray by ray.
+  const ReliefTracer<float, Search>& reference() const { return mReference; }
+  const relief::ReliefModel& model() const { return mReference.model(); }
+  /// The instruction set the searches run on (Highway's name: "AVX3" is AVX-512, "AVX2", "SSE4").
+  static const char* instructionSet() { return packetInstructionSet(); }
+
+  static TraceOptions withoutSkipping(TraceOptions options) {
+    options.skipEmptySpace = false;
+    options.skipCentralCells = false;
+    return options;
+  }
+
+  /// hits[i] = reference().intersect(rays[i]) (or the search without shading when `shade` is
+  /// false, as occluded() runs it), for every i. On the calling thread; callers trace blocks of
+  /// a few thousand rays in parallel (a block is what one sort gathers into packets).
+  void intersect(std::span<const Rayf> rays, std::span<Hit> hits, bool shade = true) const {
+    if (hits.size() != rays.size())
+      throw Error(ErrorKind::InvalidArgument,
+                  "ReliefPacketTracer::intersect: " + std::to_string(rays.size()) +
+                      " rays but room for " + std::to_string(hits.size()) + " hits");
+    model().visitDistanceCodes([&](const auto& codes) { traceStream(codes, rays, hits, shade); });
+  }
+
+ private:
+  /// One ray of the stream: ReliefTracer::traceWith's locals, kept between the rounds.
+  struct RayState {
+    Rayf ray;
+    std::optional<GridDda<float>> walk;
+    int side = 0;  ///< -1 outside, 1 inside, 0 unknown (ReliefTracer::Side)
+    float exitField = std::numeric_limits<float>::infinity();
+    std::uint32_t steps = 0;
+    std::int32_t cell = -1;  ///< the grey cell the ray stands in
+  };
+
+  using Accessor = openvdb::Int32Grid::ConstUnsafeAccessor;
+
+  /// Walks on to the next grey cell, from the walk's current cell (white and black cells hold no
+  /// surface: they keep the side, and no field was read at their faces). False: none is left.
+  static bool toGreyCell(RayState& s, Accessor& acc) {
+    for (;;) {
+      const Vec3i& c = s.walk->cell();
+      s.cell = acc.getValue(openvdb::Coord(c.x, c.y, c.z));
+      if (s.cell >= 0) return true;
+      s.exitField = std::numeric_limits<float>::infinity();
+      if (!s.walk->next()) return false;
+    }
+  }
+
+  /// The ray set up as traceWith sets it up; false when it meets no grey cell (hit stays a miss).
+  bool start(const Rayf& input, RayState& s, Accessor& acc) const {
+    s.ray = input;
+    s.ray.setDirection(input.direction);
+    const Rayf& ray = s.ray;
+    const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
+                        std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
+                        std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
+    if (!finite || ray.direction == Vec3f(0) || !(ray.tmin <= ray.tmax)) return false;
+    const RayInterval<float> span = cellrelief::intersect(ray, mReference.boundsWS());
+    if (!span.hit) return false;
+    const relief::ReliefModel& m = model();
+    s.walk.emplace(ray, Vec3f(m.originWS), float(m.cellSizeWS), m.gridSize, span.t0, span.t1);
+    s.side = span.t0 > ray.tmin ? -1 : 0;
+    return toGreyCell(s, acc);
+  }
+
+  /// What the field of one cell needs, for the packet search.
+  template <class Codes>
+  PacketCell packetCell(const Codes& codes, const relief::CellRecord& r) const {
+    const relief::ReliefModel& m = model();
+    PacketCell c;
+    c.projectionType = r.projectionType;
+    c.faceOrAxis = r.faceOrAxis;
+    for (int a = 0; a < 3; ++a) c.point[a] = r.point[a];
+    c.centreFace = projection::firstFace(cells::domainFacesOf(r.configuration));
+    for (int f = 0; f < cells::kFaceCount; ++f) c.layerOfFace[f] = r.layerOf(f);
+    c.interior = r.configuration == 0;
+    c.centreInside = r.centreInside();
+    c.openCell = r.openSurface();
+    c.codes = codes.data;
+    c.codeBits = int(sizeof(*codes.data) * 8);
+    c.gather16 = mGather16 && c.codeBits == 16;
+    c.texels = m.texels;
+    c.distanceScale = float(m.distanceCodec.scale());
+    c.emptyCode = float(m.distanceCodec.emptyCode());
+    return c;
+  }
+
+  template <class Codes>
+  void traceStream(const Codes& codes, std::span<const Rayf> rays, std::span<Hit> hits,
+                   bool shade) const {
+    auto acc = mReference.cellGrid().getConstUnsafeAccessor();
+    std::vector<RayState> states(rays.size());
+    std::vector<std::pair<std::int32_t, std::uint32_t>> pending, next;  // (cell, ray)
+    pending.reserve(rays.size());
+    next.reserve(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      hits[i] = Hit{};
+      if (start(rays[i], states[i], acc)) pending.emplace_back(states[i].cell, std::uint32_t(i));
+    }
+    while (!pending.empty()) {
+      std::sort(pending.begin(), pending.end());
+      for (std::size_t b = 0; b < pending.size();) {
+        std::size_t e = b + 1;
+        while (e < pending.size() && e - b < std::size_t(kPacketLanes) &&
+               pending[e].first == pending[b].first)
+          ++e;
+        searchPacket(codes, std::span(pending).subspan(b, e - b), states, hits, shade, acc, next);
+        b = e;
+      }
+      std::swap(pending, next);
+      next.clear();
+    }
+  }
+
+  /// Searches rays standing in one grey cell (ReliefTracer::searchCell, lane by lane); rays
+  /// without a hit walk on to their next grey cell, into `next`.
+  template <class Codes>
+  void searchPacket(const Codes& codes,
+                    std::span<const std::pair<std::int32_t, std::uint32_t>> lanes,
+                    std::vector<RayState>& states, std::span<Hit> hits, bool shade, Accessor& acc,
+                    std::vector<std::pair<std::int32_t, std::uint32_t>>& next) const {
+    const relief::ReliefModel& m = model();
+    const std::int32_t index = lanes.front().first;
+    const relief::CellRecord& record = m.cells[index];
+    const PacketCell cell = packetCell(codes, record);
+    const float cellSize = float(m.cellSizeWS);
+    const Vec3f cellOrigin = Vec3f(m.originWS) + Vec3f(record.ijk()) * cellSize;
+    PacketRays packet;
+    packet.count = int(lanes.size());
+    for (int l = 0; l < kPacketLanes; ++l) {
+      // Lanes past the count repeat the first ray: the search computes them and drops them.
+      const RayState& s = states[lanes[std::size_t(l) < lanes.size() ? l : 0].second];
+      const Vec3f o = (s.ray.origin - cellOrigin) / cellSize, d = s.ray.direction / cellSize;
+      packet.ox[l] = o.x, packet.oy[l] = o.y, packet.oz[l] = o.z;
+      packet.dx[l] = d.x, packet.dy[l] = d.y, packet.dz[l] = d.z;
+      packet.t0[l] = s.walk->tEntry();
+      packet.t1[l] = s.walk->tExit();
+    }
+    packetEnterCell(cell, packet);
+    // A crossing at the face where the ray enters (searchCell): the side carried in disagrees
+    // with the one read here, unless both are far from the surface.
+    const float nearFace = float(constants::kNearFaceSamples) / float(m.texels - 1);
+    auto farFromSurface = [&](float f) {
+      return std::abs(f) > nearFace && std::abs(f) < float(constants::kEmptyField);
+    };
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+      RayState& s = states[lanes[l].second];
+      const float fIn = packet.fStart[l];
+      packet.linear[l] = 0;
+      if (!mOpenModel && s.side != 0 && (fIn > 0) != (s.side > 0) &&
+          !(farFromSurface(fIn) && farFromSurface(s.exitField))) {
+        hits[lanes[l].second] = finish(index, s, packet.t0[l], packet.faceStart[l],
+                                       packet.uStart[l], packet.vStart[l], 1, shade);
+        s.walk.reset();
+        continue;
+      }
+      packet.linear[l] = float(Search::linearSteps(
+          mReference.options(), double(packet.footprint[l] * float(m.texels - 1))));
+    }
+    for (std::size_t l = lanes.size(); l < std::size_t(kPacketLanes); ++l) packet.linear[l] = 0;
+    packetSearchCell(cell, mReference.options().binarySteps, packet);
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+      RayState& s = states[lanes[l].second];
+      if (!s.walk) continue;  // hit at the face
+      const std::uint32_t steps = std::uint32_t(packet.steps[l]);
+      if (packet.found[l] > 0) {
+        hits[lanes[l].second] = finish(index, s, packet.tHit[l], packet.face[l], packet.u[l],
+                                       packet.v[l], steps, shade);
+        continue;
+      }
+      s.steps += steps;
+      s.side = mOpenModel ? 0 : packet.fEnd[l] > 0 ? 1 : -1;
+      s.exitField = std::abs(packet.fEnd[l]);
+      if (s.walk->next() && toGreyCell(s, acc))
+        next.emplace_back(s.cell, lanes[l].second);
+      else
+        hits[lanes[l].second].steps = s.steps;  // a miss reports its steps
+    }
+  }
+
+  Hit finish(std::int32_t index, const RayState& s, float t, float face, float u, float v,
+             std::uint32_t steps, bool shade) const {
+    projection::FacePoint<float> fp;
+    fp.face = int(face);
+    fp.uv = Vec2f(u, v);
+    return mReference.finishHit(index, s.ray, t, fp, s.steps + steps, shade);
+  }
+
+  ReliefTracer<float, Search> mReference;
+  bool mOpenModel = false;  ///< ReliefModel::openSurface(): no side carried across cell faces
+  bool mGather16 = false;   ///< PacketCell::gather16
+};
+
+}  // namespace cellrelief::trace
