@@ -53,28 +53,52 @@ struct Projected {
   V face, u, v, distance;
 };
 
+/// Each lane's cell, as the field reads it (PacketRays).
+struct LaneCells {
+  V axis, cellFace, centreFace;
+  Point point;
+  V layerOfFace[6];
+  M interior, centreInside, openCell;
+};
+
 /// glm::length of a 3-vector: sqrt((x x + y y) + z z).
 HWY_INLINE V Length3(V x, V y, V z) {
   return hn::Sqrt(hn::Add(hn::Add(hn::Mul(x, x), hn::Mul(y, y)), hn::Mul(z, z)));
 }
 
-/// projection::faceUV of a face on a known axis a: the next two axes, cyclically.
-HWY_INLINE void FaceUV(int axis, const Point& p, V& u, V& v) {
-  u = p.c[(axis + 1) % 3];
-  v = p.c[(axis + 2) % 3];
+/// Per lane, p's coordinate along `axis` (0, 1 or 2).
+HWY_INLINE V Along(D d, V axis, const Point& p) {
+  return hn::IfThenElse(hn::Eq(axis, hn::Zero(d)), p.c[0],
+                        hn::IfThenElse(hn::Eq(axis, hn::Set(d, 1.0f)), p.c[1], p.c[2]));
 }
 
-/// projection::detail::exitPoint: where the line from o along w leaves the unit cell (skipping
-/// `skipAxis`), lanes where w is zero on every axis excluded by the caller.
-HWY_INLINE Projected ExitPoint(D d, const Point& o, const Point& w, const Point& p, int skipAxis) {
+/// projection::faceUV on a face of `axis` (per lane): the next two axes, cyclically.
+HWY_INLINE void FaceUV(D d, V axis, const Point& p, V& u, V& v) {
+  const M ax0 = hn::Eq(axis, hn::Zero(d)), ax1 = hn::Eq(axis, hn::Set(d, 1.0f));
+  u = hn::IfThenElse(ax0, p.c[1], hn::IfThenElse(ax1, p.c[2], p.c[0]));
+  v = hn::IfThenElse(ax0, p.c[2], hn::IfThenElse(ax1, p.c[0], p.c[1]));
+}
+
+/// The axis of a face (face / 2, exact for 0..5) and whether it is the positive one.
+HWY_INLINE V AxisOf(D d, V face) {
+  return hn::Floor(hn::Mul(face, hn::Set(d, 0.5f)));
+}
+HWY_INLINE M PositiveFace(D d, V face) {
+  return hn::Ne(face, hn::Add(AxisOf(d, face), AxisOf(d, face)));
+}
+
+/// projection::detail::exitPoint: where the line from o along w leaves the unit cell, skipping
+/// the axis `skipAxis` (per lane; -1: none); lanes where w is zero on every other axis are
+/// excluded by the caller.
+HWY_INLINE Projected ExitPoint(D d, const Point& o, const Point& w, const Point& p, V skipAxis) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   V best = hn::Set(d, std::numeric_limits<float>::infinity()), axis = hn::Set(d, -1.0f),
     positive = zero;
   for (int a = 0; a < 3; ++a) {
-    if (a == skipAxis) continue;
     const M up = hn::Gt(w.c[a], zero);
     const V t = hn::Div(hn::Sub(hn::IfThenElseZero(up, one), o.c[a]), w.c[a]);
-    const M take = hn::And(hn::Ne(w.c[a], zero), hn::Lt(t, best));
+    const M take = hn::AndNot(hn::Eq(skipAxis, hn::Set(d, float(a))),
+                              hn::And(hn::Ne(w.c[a], zero), hn::Lt(t, best)));
     best = hn::IfThenElse(take, t, best);
     axis = hn::IfThenElse(take, hn::Set(d, float(a)), axis);
     positive = hn::IfThenElse(take, hn::IfThenElseZero(up, one), positive);
@@ -84,23 +108,24 @@ HWY_INLINE Projected ExitPoint(D d, const Point& o, const Point& w, const Point&
     const V onPlane = hn::Add(o.c[a], hn::Mul(best, w.c[a]));
     hit.c[a] = Clamp01(d, hn::IfThenElse(hn::Eq(axis, hn::Set(d, float(a))), positive, onPlane));
   }
-  const M ax0 = hn::Eq(axis, zero), ax1 = hn::Eq(axis, one);
   Projected out;
   out.face = hn::Add(hn::Add(axis, axis), positive);
-  out.u = hn::IfThenElse(ax0, hit.c[1], hn::IfThenElse(ax1, hit.c[2], hit.c[0]));
-  out.v = hn::IfThenElse(ax0, hit.c[2], hn::IfThenElse(ax1, hit.c[0], hit.c[1]));
+  FaceUV(d, axis, hit, out.u, out.v);
   out.distance =
       Length3(hn::Sub(hit.c[0], p.c[0]), hn::Sub(hit.c[1], p.c[1]), hn::Sub(hit.c[2], p.c[2]));
   return out;
 }
 
-/// Where a point on a face's plane, with its other coordinates those of `p`, projects from
-/// `p`: the centre (or axis) case of the central projections.
-HWY_INLINE Projected OntoFace(D d, int face, const Point& p, const Point& onFace) {
+/// The centre (or axis) case of the central projections: onto the lane's centre face, at the
+/// point `base` with its coordinate along that face's axis set to the face's plane.
+HWY_INLINE Projected OntoCentreFace(D d, const LaneCells& cells, const Point& p, Point onFace) {
+  const V axis = AxisOf(d, cells.centreFace);
+  const V plane = hn::IfThenElseZero(PositiveFace(d, cells.centreFace), hn::Set(d, 1.0f));
+  for (int a = 0; a < 3; ++a)
+    onFace.c[a] = hn::IfThenElse(hn::Eq(axis, hn::Set(d, float(a))), plane, onFace.c[a]);
   Projected out;
-  const int axis = face / 2;
-  out.face = hn::Set(d, float(face));
-  FaceUV(axis, onFace, out.u, out.v);
+  out.face = cells.centreFace;
+  FaceUV(d, axis, onFace, out.u, out.v);
   out.distance = Length3(hn::Sub(onFace.c[0], p.c[0]), hn::Sub(onFace.c[1], p.c[1]),
                          hn::Sub(onFace.c[2], p.c[2]));
   return out;
@@ -111,51 +136,51 @@ HWY_INLINE Projected Select(M m, const Projected& a, const Projected& b) {
           hn::IfThenElse(m, a.v, b.v), hn::IfThenElse(m, a.distance, b.distance)};
 }
 
+HWY_INLINE M AllZero(D d, const Point& w) {
+  const V zero = hn::Zero(d);
+  return hn::And(hn::And(hn::Eq(w.c[0], zero), hn::Eq(w.c[1], zero)), hn::Eq(w.c[2], zero));
+}
+
 /// The projections of projections.h, for a point of the closed unit cell.
-HWY_INLINE Projected Project(D d, const PacketCell& cell, const Point& p) {
+HWY_INLINE Projected Project(D d, int type, const LaneCells& cells, const Point& p) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f), half = hn::Set(d, 0.5f);
   Projected out;
-  switch (cell.projectionType) {
+  switch (type) {
     case 0: {  // parallel: along the normal of one face
-      const int face = cell.faceOrAxis, axis = face / 2;
-      out.face = hn::Set(d, float(face));
-      FaceUV(axis, p, out.u, out.v);
-      out.distance = hn::Abs(hn::Sub(face % 2 ? one : zero, p.c[axis]));
+      out.face = cells.cellFace;
+      FaceUV(d, cells.axis, p, out.u, out.v);
+      const V target = hn::IfThenElseZero(PositiveFace(d, cells.cellFace), one);
+      out.distance = hn::Abs(hn::Sub(target, Along(d, cells.axis, p)));
       return out;
     }
     case 1: {  // planar: onto the nearer face of the axis
-      const int axis = cell.faceOrAxis;
-      const M upper = hn::Ge(p.c[axis], half);
-      out.face = hn::Add(hn::Set(d, float(2 * axis)), hn::IfThenElseZero(upper, one));
-      FaceUV(axis, p, out.u, out.v);
-      out.distance = hn::IfThenElse(upper, hn::Sub(one, p.c[axis]), p.c[axis]);
+      const V along = Along(d, cells.axis, p);
+      const M upper = hn::Ge(along, half);
+      out.face = hn::Add(hn::Add(cells.axis, cells.axis), hn::IfThenElseZero(upper, one));
+      FaceUV(d, cells.axis, p, out.u, out.v);
+      out.distance = hn::IfThenElse(upper, hn::Sub(one, along), along);
       return out;
     }
     case 3: {  // axial: from the foot on the axis line, perpendicular to it
-      const int axis = cell.faceOrAxis;
       Point q, w;
-      for (int a = 0; a < 3; ++a) q.c[a] = a == axis ? p.c[a] : hn::Set(d, cell.point[a]);
+      for (int a = 0; a < 3; ++a)
+        q.c[a] = hn::IfThenElse(hn::Eq(cells.axis, hn::Set(d, float(a))), p.c[a], cells.point.c[a]);
       for (int a = 0; a < 3; ++a) w.c[a] = hn::Sub(p.c[a], q.c[a]);
-      const M onAxis =
-          hn::And(hn::And(hn::Eq(w.c[0], zero), hn::Eq(w.c[1], zero)), hn::Eq(w.c[2], zero));
-      const Projected exit = ExitPoint(d, q, w, p, axis);
+      const M onAxis = AllZero(d, w);
+      const Projected exit = ExitPoint(d, q, w, p, cells.axis);
       if (hn::AllFalse(d, onAxis)) return exit;
-      Point onFace = p;
-      onFace.c[cell.centreFace / 2] = cell.centreFace % 2 ? one : zero;
-      return Select(onAxis, OntoFace(d, cell.centreFace, p, onFace), exit);
+      return Select(onAxis, OntoCentreFace(d, cells, p, p), exit);
     }
     default: {  // perspective: from the centre
-      Point c, w;
-      for (int a = 0; a < 3; ++a) c.c[a] = hn::Set(d, cell.point[a]);
-      for (int a = 0; a < 3; ++a) w.c[a] = hn::Sub(p.c[a], c.c[a]);
-      const M atCentre =
-          hn::And(hn::And(hn::Eq(w.c[0], zero), hn::Eq(w.c[1], zero)), hn::Eq(w.c[2], zero));
-      const Projected exit = ExitPoint(d, c, w, p, -1);
+      Point w;
+      for (int a = 0; a < 3; ++a) w.c[a] = hn::Sub(p.c[a], cells.point.c[a]);
+      const M atCentre = AllZero(d, w);
+      const Projected exit = ExitPoint(d, cells.point, w, p, hn::Set(d, -1.0f));
       if (hn::AllFalse(d, atCentre)) return exit;
       Point faceCentre;
       for (int a = 0; a < 3; ++a) faceCentre.c[a] = half;
-      faceCentre.c[cell.centreFace / 2] = cell.centreFace % 2 ? one : zero;
-      return Select(atCentre, OntoFace(d, cell.centreFace, p, faceCentre), exit);
+      (void)zero;
+      return Select(atCentre, OntoCentreFace(d, cells, p, faceCentre), exit);
     }
   }
 }
@@ -168,16 +193,16 @@ struct Corners {
 /// 16-bit codes by two gathers of 32-bit words: the word at a sample holds it (low half) and its
 /// right neighbour (high half), so the rows b0 and b0 + 1 need one gather each. Offsets in bytes
 /// fit in 32 bits (packetCell checks the size); a lane without a layer reads the first word.
-HWY_INLINE Corners GatherCorners16(D d, const PacketCell& cell, V layer, V a0, V b0) {
+HWY_INLINE Corners GatherCorners16(D d, const PacketMaps& maps, V layer, V a0, V b0) {
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
-  const auto texels = hn::Set(di, cell.texels);
+  const auto texels = hn::Set(di, maps.texels);
   const auto index = hn::Add(
       hn::Mul(hn::Add(hn::Mul(hn::ConvertTo(di, layer), texels), hn::ConvertTo(di, b0)), texels),
       hn::ConvertTo(di, a0));
   const auto offset =
       hn::IfThenElseZero(hn::RebindMask(di, hn::Ge(layer, hn::Zero(d))), hn::Add(index, index));
-  const std::int32_t* base = static_cast<const std::int32_t*>(cell.codes);
+  const std::int32_t* base = static_cast<const std::int32_t*>(maps.codes);
   const auto row0 = hn::BitCast(du, hn::GatherOffset(di, base, offset));
   const auto row1 =
       hn::BitCast(du, hn::GatherOffset(di, base, hn::Add(offset, hn::Add(texels, texels))));
@@ -188,9 +213,9 @@ HWY_INLINE Corners GatherCorners16(D d, const PacketCell& cell, V layer, V a0, V
 }
 
 template <class Code>
-HWY_INLINE Corners LoadCorners(D d, const PacketCell& cell, V layer, V a0, V b0) {
-  const Code* codes = static_cast<const Code*>(cell.codes);
-  const std::size_t texels = std::size_t(cell.texels);
+HWY_INLINE Corners LoadCorners(D d, const PacketMaps& maps, V layer, V a0, V b0) {
+  const Code* codes = static_cast<const Code*>(maps.codes);
+  const std::size_t texels = std::size_t(maps.texels);
   HWY_ALIGN float l[kPacketLanes], a[kPacketLanes], b[kPacketLanes];
   HWY_ALIGN float c00[kPacketLanes], c10[kPacketLanes], c01[kPacketLanes], c11[kPacketLanes];
   hn::Store(layer, d, l);
@@ -213,18 +238,18 @@ HWY_INLINE Corners LoadCorners(D d, const PacketCell& cell, V layer, V a0, V b0)
 
 /// ReliefTracer::field: positive inside the object, negative outside; the projection of the
 /// point into `where`.
-HWY_INLINE V Field(D d, const PacketCell& cell, const Point& unclamped, Projected& where) {
+HWY_INLINE V Field(D d, const PacketMaps& maps, int type, const LaneCells& cells,
+                   const Point& unclamped, Projected& where) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   Point p;
   for (int a = 0; a < 3; ++a) p.c[a] = Clamp01(d, unclamped.c[a]);
-  where = Project(d, cell, p);
-  V layer = hn::Set(d, float(cell.layerOfFace[0]));
+  where = Project(d, type, cells, p);
+  V layer = cells.layerOfFace[0];
   for (int f = 1; f < 6; ++f)
-    layer = hn::IfThenElse(hn::Eq(where.face, hn::Set(d, float(f))),
-                           hn::Set(d, float(cell.layerOfFace[f])), layer);
+    layer = hn::IfThenElse(hn::Eq(where.face, hn::Set(d, float(f))), cells.layerOfFace[f], layer);
   // ReliefTracer::stored: bilinear filtering of the vertex-centred samples.
-  const V last = hn::Set(d, float(cell.texels - 1)),
-          beforeLast = hn::Set(d, float(cell.texels - 2));
+  const V last = hn::Set(d, float(maps.texels - 1)),
+          beforeLast = hn::Set(d, float(maps.texels - 2));
   const hn::RebindToSigned<D> di;
   const V x = hn::Mul(hn::IfThenElseZero(hn::Gt(where.u, zero), GlmMin(where.u, one)), last);
   const V y = hn::Mul(hn::IfThenElseZero(hn::Gt(where.v, zero), GlmMin(where.v, one)), last);
@@ -232,10 +257,10 @@ HWY_INLINE V Field(D d, const PacketCell& cell, const Point& unclamped, Projecte
   const V a0 = GlmMin(beforeLast, hn::ConvertTo(d, hn::ConvertTo(di, x)));
   const V b0 = GlmMin(beforeLast, hn::ConvertTo(d, hn::ConvertTo(di, y)));
   const V fx = hn::Sub(x, a0), fy = hn::Sub(y, b0);
-  Corners c = cell.gather16         ? GatherCorners16(d, cell, layer, a0, b0)
-              : cell.codeBits == 16 ? LoadCorners<std::uint16_t>(d, cell, layer, a0, b0)
-                                    : LoadCorners<std::uint8_t>(d, cell, layer, a0, b0);
-  const V empty = hn::Set(d, cell.emptyCode);
+  Corners c = maps.gather16         ? GatherCorners16(d, maps, layer, a0, b0)
+              : maps.codeBits == 16 ? LoadCorners<std::uint16_t>(d, maps, layer, a0, b0)
+                                    : LoadCorners<std::uint8_t>(d, maps, layer, a0, b0);
+  const V empty = hn::Set(d, maps.emptyCode);
   const M e00 = hn::Ge(c.c00, empty), e10 = hn::Ge(c.c10, empty), e01 = hn::Ge(c.c01, empty),
           e11 = hn::Ge(c.c11, empty);
   const V emptyCount =
@@ -243,12 +268,12 @@ HWY_INLINE V Field(D d, const PacketCell& cell, const Point& unclamped, Projecte
                       hn::IfThenElseZero(e01, one)),
               hn::IfThenElseZero(e11, one));
   const M anyEmpty = hn::Gt(emptyCount, zero);
-  M noSurface = hn::Lt(layer, zero);
-  if (!cell.interior) {
-    noSurface = hn::Or(noSurface, anyEmpty);
-  } else if (!hn::AllFalse(d, anyEmpty)) {
-    // ReliefTracer::mixedTexel.
-    noSurface = hn::Or(noSurface, hn::Eq(emptyCount, hn::Set(d, 4.0f)));
+  // Outside interior cells a texel with an empty sample has no surface; inside them, one with
+  // four (ReliefTracer::stored).
+  M noSurface = hn::Or(hn::Lt(layer, zero), hn::AndNot(cells.interior, anyEmpty));
+  noSurface = hn::Or(noSurface, hn::Eq(emptyCount, hn::Set(d, 4.0f)));
+  if (!hn::AllFalse(d, hn::And(cells.interior, anyEmpty))) {
+    // ReliefTracer::mixedTexel (the lanes it does not apply to take no empty sample's value).
     auto min0 = [&](V v) { return GlmMin(v, zero); };  // std::min(v, 0)
     const V n00 = min0(hn::Sub(hn::Add(c.c10, c.c01), c.c11));
     const V n10 = min0(hn::Sub(hn::Add(c.c00, c.c11), c.c01));
@@ -269,10 +294,12 @@ HWY_INLINE V Field(D d, const PacketCell& cell, const Point& unclamped, Projecte
   const V top = hn::Add(c.c00, hn::Mul(fx, hn::Sub(c.c10, c.c00)));
   const V bottom = hn::Add(c.c01, hn::Mul(fx, hn::Sub(c.c11, c.c01)));
   const V stored =
-      hn::Mul(hn::Add(top, hn::Mul(fy, hn::Sub(bottom, top))), hn::Set(d, cell.distanceScale));
-  const bool flipped = cell.interior && !cell.centreInside;
-  const V f = flipped ? hn::Sub(stored, where.distance) : hn::Sub(where.distance, stored);
-  const V emptyValue = hn::Set(d, cell.interior && cell.centreInside ? kEmptyField : -kEmptyField);
+      hn::Mul(hn::Add(top, hn::Mul(fy, hn::Sub(bottom, top))), hn::Set(d, maps.distanceScale));
+  const M flipped = hn::AndNot(cells.centreInside, cells.interior);
+  const V f =
+      hn::IfThenElse(flipped, hn::Sub(stored, where.distance), hn::Sub(where.distance, stored));
+  const V emptyValue = hn::IfThenElse(hn::And(cells.interior, cells.centreInside),
+                                      hn::Set(d, kEmptyField), hn::Set(d, -kEmptyField));
   return hn::IfThenElse(noSurface, emptyValue, f);
 }
 
@@ -289,6 +316,20 @@ HWY_INLINE LaneRays LoadRays(D d, const PacketRays& r, std::size_t lane) {
           hn::Load(d, r.t1 + lane)};
 }
 
+HWY_INLINE LaneCells LoadCells(D d, const PacketRays& r, std::size_t lane) {
+  const V one = hn::Set(d, 1.0f);
+  LaneCells c;
+  c.axis = hn::Load(d, r.axis + lane);
+  c.cellFace = hn::Load(d, r.cellFace + lane);
+  c.centreFace = hn::Load(d, r.centreFace + lane);
+  c.point = {{hn::Load(d, r.px + lane), hn::Load(d, r.py + lane), hn::Load(d, r.pz + lane)}};
+  for (int f = 0; f < 6; ++f) c.layerOfFace[f] = hn::Load(d, r.layerOfFace[f] + lane);
+  c.interior = hn::Eq(hn::Load(d, r.interior + lane), one);
+  c.centreInside = hn::Eq(hn::Load(d, r.centreInside + lane), one);
+  c.openCell = hn::Eq(hn::Load(d, r.openCell + lane), one);
+  return c;
+}
+
 /// The ray's point at t (frame.origin + t * frame.direction).
 HWY_INLINE Point At(const LaneRays& r, V t) {
   return {{hn::Add(r.o.c[0], hn::Mul(t, r.dir.c[0])), hn::Add(r.o.c[1], hn::Mul(t, r.dir.c[1])),
@@ -301,12 +342,14 @@ HWY_INLINE Point ClampedAt(D d, const LaneRays& r, V t) {
   return p;
 }
 
-void EnterCell(const PacketCell& cell, PacketRays& rays) {
+void EnterCell(const PacketMaps& maps, PacketRays& rays) {
   const D d;
+  const int type = rays.projectionType;
   for (std::size_t lane = 0; lane < std::size_t(rays.count); lane += hn::Lanes(d)) {
     const LaneRays r = LoadRays(d, rays, lane);
+    const LaneCells cells = LoadCells(d, rays, lane);
     Projected start;
-    const V f = Field(d, cell, At(r, r.t0), start);
+    const V f = Field(d, maps, type, cells, At(r, r.t0), start);
     // The footprint of the segment on the maps (linearBinarySearch), from kFootprintProbes
     // points past its start; a change of face counts as a whole face.
     V footprint = hn::Zero(d);
@@ -314,7 +357,7 @@ void EnterCell(const PacketCell& cell, PacketRays& rays) {
     for (int k = 1; k <= kFootprintProbes; ++k) {
       const V t = hn::Add(r.t0, hn::Div(hn::Mul(hn::Sub(r.t1, r.t0), hn::Set(d, float(k))),
                                         hn::Set(d, float(kFootprintProbes))));
-      const Projected b = Project(d, cell, ClampedAt(d, r, t));
+      const Projected b = Project(d, type, cells, ClampedAt(d, r, t));
       const V du = hn::Sub(b.u, a.u), dv = hn::Sub(b.v, a.v);
       const V length = hn::Sqrt(hn::Add(hn::Mul(du, du), hn::Mul(dv, dv)));
       footprint =
@@ -329,12 +372,14 @@ void EnterCell(const PacketCell& cell, PacketRays& rays) {
   }
 }
 
-void SearchCell(const PacketCell& cell, int binarySteps, PacketRays& rays) {
+void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
   const D d;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f), emptyField = hn::Set(d, kEmptyField);
-  const bool planar = cell.projectionType == 1;
+  const int type = rays.projectionType;
+  const bool planar = type == 1;
   for (std::size_t lane = 0; lane < std::size_t(rays.count); lane += hn::Lanes(d)) {
     const LaneRays r = LoadRays(d, rays, lane);
+    const LaneCells cells = LoadCells(d, rays, lane);
     const V linear = hn::Load(d, rays.linear + lane);
     const M searched = hn::Gt(linear, zero);
     float mostSteps = 0;
@@ -350,16 +395,16 @@ void SearchCell(const PacketCell& cell, int binarySteps, PacketRays& rays) {
       if (hn::AllFalse(d, live)) break;
       const V t = hn::Add(r.t0, hn::Div(hn::Mul(span, hn::Set(d, float(i))), linear));
       Projected where;
-      const V f = Field(d, cell, At(r, t), where);
+      const V f = Field(d, maps, type, cells, At(r, t), where);
       steps = hn::Add(steps, hn::IfThenElseZero(live, one));
       // A step across a planar cell's mid-plane is no crossing; nor, in a cell with a hole's
       // rim, one between an empty line and one with surface.
       const M otherHalf = planar ? hn::Ne(where.face, facePrev) : hn::FirstN(d, 0);
       facePrev = hn::IfThenElse(live, where.face, facePrev);
       M crossing = hn::AndNot(otherHalf, hn::Xor(hn::Gt(fPrev, zero), hn::Gt(f, zero)));
-      if (cell.openCell)
-        crossing = hn::AndNot(
-            hn::Or(hn::Ge(hn::Abs(fPrev), emptyField), hn::Ge(hn::Abs(f), emptyField)), crossing);
+      const M emptyLine =
+          hn::Or(hn::Ge(hn::Abs(fPrev), emptyField), hn::Ge(hn::Abs(f), emptyField));
+      crossing = hn::AndNot(hn::And(cells.openCell, emptyLine), crossing);
       const M hit = hn::And(live, crossing), moved = hn::AndNot(crossing, live);
       lo = hn::IfThenElse(hit, tPrev, lo);
       hi = hn::IfThenElse(hit, t, hi);
@@ -375,13 +420,13 @@ void SearchCell(const PacketCell& cell, int binarySteps, PacketRays& rays) {
       for (int k = 0; k < binarySteps; ++k) {
         const V mid = hn::Mul(hn::Set(d, 0.5f), hn::Add(lo, hi));
         Projected unused;
-        const M positive = hn::Gt(Field(d, cell, At(r, mid), unused), zero);
+        const M positive = hn::Gt(Field(d, maps, type, cells, At(r, mid), unused), zero);
         const M toLo = hn::Not(hn::Xor(positive, loPositive));
         lo = hn::IfThenElse(hn::And(found, toLo), mid, lo);
         hi = hn::IfThenElse(hn::AndNot(toLo, found), mid, hi);
         steps = hn::Add(steps, hn::IfThenElseZero(found, one));
       }
-      Field(d, cell, At(r, hi), where);
+      Field(d, maps, type, cells, At(r, hi), where);
     }
     hn::Store(hn::IfThenElseZero(found, one), d, rays.found + lane);
     hn::Store(hi, d, rays.tHit + lane);
@@ -396,6 +441,10 @@ const char* InstructionSet() {
   return hwy::TargetName(HWY_TARGET);
 }
 
+int VectorLanes() {
+  return int(hn::Lanes(D()));
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace cellrelief::trace
 HWY_AFTER_NAMESPACE();
@@ -406,17 +455,22 @@ namespace cellrelief::trace {
 HWY_EXPORT(EnterCell);
 HWY_EXPORT(SearchCell);
 HWY_EXPORT(InstructionSet);
+HWY_EXPORT(VectorLanes);
 
-void packetEnterCell(const PacketCell& cell, PacketRays& rays) {
-  HWY_DYNAMIC_DISPATCH(EnterCell)(cell, rays);
+void packetEnterCell(const PacketMaps& maps, PacketRays& rays) {
+  HWY_DYNAMIC_DISPATCH(EnterCell)(maps, rays);
 }
 
-void packetSearchCell(const PacketCell& cell, int binarySteps, PacketRays& rays) {
-  HWY_DYNAMIC_DISPATCH(SearchCell)(cell, binarySteps, rays);
+void packetSearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
+  HWY_DYNAMIC_DISPATCH(SearchCell)(maps, binarySteps, rays);
 }
 
 const char* packetInstructionSet() {
   return HWY_DYNAMIC_DISPATCH(InstructionSet)();
+}
+
+int packetVectorLanes() {
+  return HWY_DYNAMIC_DISPATCH(VectorLanes)();
 }
 
 int packetTargets(PacketTarget* out, int capacity) {

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file packet_search.h
 /// The SIMD part of the packet tracer (packet_tracer.h): the linear + binary search of up to
-/// kPacketLanes rays inside one grey cell, one ray per lane. Each lane does the arithmetic of
-/// ReliefTracer's scalar search (field(), linearBinarySearch(), refineCrossing()) operation for
-/// operation, in the same order and without fused multiply-adds, so that a lane and the scalar
-/// tracer agree bit for bit; branches become masks.
+/// kPacketLanes rays inside grey cells of one projection type, one ray per lane. Each lane does the
+/// arithmetic of ReliefTracer's scalar search (field(), linearBinarySearch(), refineCrossing())
+/// operation for operation, in the same order and without fused multiply-adds, so that a lane and
+/// the scalar tracer agree bit for bit; branches become masks.
 ///
 /// Plain structures in, plain structures out: the search is compiled once per instruction set
 /// (SSE4, AVX2, AVX-512, ... through Google Highway's dynamic dispatch,
@@ -21,17 +21,8 @@ namespace cellrelief::trace {
 /// sets take them in 2 or 4 vectors.
 inline constexpr int kPacketLanes = 16;
 
-/// One grey cell as the field reads it.
-struct PacketCell {
-  int projectionType = 0;               ///< projection::ProjectionType
-  int faceOrAxis = 0;                   ///< parallel: the face; planar, axial: the axis
-  float point[3] = {0.5f, 0.5f, 0.5f};  ///< perspective centre, or a point of the axis
-  int centreFace =
-      0;  ///< where a point at the centre (or on the axis) projects: the first domain face
-  int layerOfFace[6] = {-1, -1, -1, -1, -1, -1};
-  bool interior = false;      ///< configuration 0: empty lines lie on the centre's side
-  bool centreInside = false;  ///< CellRecord::centreInside()
-  bool openCell = false;  ///< CellRecord::openSurface(): no crossing between empty and filled lines
+/// The maps every lane reads (one model's).
+struct PacketMaps {
   const void* codes = nullptr;  ///< the model's level-0 distance codes, layer by layer, row by row
   int codeBits = 16;            ///< 8 (std::uint8_t codes) or 16 (std::uint16_t)
   /// 16-bit codes whose byte offsets fit in 32 bits, with a layer at least: read by gathers.
@@ -41,10 +32,23 @@ struct PacketCell {
   float emptyCode = 0;      ///< the code of a line without surface
 };
 
-/// Up to kPacketLanes rays in one cell, in the cell's unit coordinates (p(t) = o + t d), with
-/// what each call fills in.
+/// Up to kPacketLanes rays, each in a grey cell of its own or shared, all of one projection
+/// type: each lane's cell as the field reads it, and its ray in the cell's unit coordinates
+/// (p(t) = o + t d); then what each call fills in. Booleans are 0 or 1.
 struct PacketRays {
   int count = 0;
+  int projectionType = 0;                    ///< projection::ProjectionType, of every lane's cell
+  alignas(64) float axis[kPacketLanes];      ///< parallel: the face's axis; planar, axial: the axis
+  alignas(64) float cellFace[kPacketLanes];  ///< parallel: the face
+  alignas(64) float px[kPacketLanes], py[kPacketLanes],
+      pz[kPacketLanes];  ///< centre, or a point of the axis
+  /// Where a point at the centre (or on the axis) projects: the first domain face.
+  alignas(64) float centreFace[kPacketLanes];
+  alignas(64) float layerOfFace[6][kPacketLanes];  ///< -1: no layer
+  alignas(64) float interior[kPacketLanes];  ///< configuration 0: empty lines on the centre's side
+  alignas(64) float centreInside[kPacketLanes];  ///< CellRecord::centreInside()
+  alignas(64) float openCell[kPacketLanes];  ///< CellRecord::openSurface(): no crossing at an empty
+                                             ///< line
   alignas(64) float ox[kPacketLanes], oy[kPacketLanes], oz[kPacketLanes];
   alignas(64) float dx[kPacketLanes], dy[kPacketLanes], dz[kPacketLanes];
   alignas(64) float t0[kPacketLanes], t1[kPacketLanes];  ///< the segment inside the cell
@@ -61,11 +65,14 @@ struct PacketRays {
 };
 
 /// Fills fStart, faceStart, uStart, vStart and footprint for the first `count` lanes.
-void packetEnterCell(const PacketCell& cell, PacketRays& rays);
+void packetEnterCell(const PacketMaps& maps, PacketRays& rays);
 
 /// The linear search (rays.linear samples per lane) and the binary refinement (binarySteps) of
 /// every lane with linear > 0; fills found, tHit, face, u, v, steps and fEnd.
-void packetSearchCell(const PacketCell& cell, int binarySteps, PacketRays& rays);
+void packetSearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays);
+
+/// The lanes of one vector of the instruction set chosen (4 to 16; 1 without SIMD).
+int packetVectorLanes();
 
 /// The instruction set the two calls above run on this CPU (Highway's name, e.g. "AVX3").
 const char* packetInstructionSet();

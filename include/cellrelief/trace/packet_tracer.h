@@ -53,6 +53,8 @@ class ReliefPacketTracer {
     const std::size_t bytes =
         std::size_t(model.layerCount()) * std::size_t(model.texels) * std::size_t(model.texels) * 2;
     mGather16 = model.distanceCodec.bits == 16 && bytes > 0 && bytes < (std::size_t(1) << 31);
+    mCells.reserve(model.cells.size());
+    for (const relief::CellRecord& r : model.cells) mCells.push_back(laneCell(r));
   }
 
   /// The scalar tracer this one agrees with, ray by ray.
@@ -120,48 +122,82 @@ class ReliefPacketTracer {
     return toGreyCell(s, acc);
   }
 
-  /// What the field of one cell needs, for the packet search.
-  template <class Codes>
-  PacketCell packetCell(const Codes& codes, const relief::CellRecord& r) const {
+  /// A cell's values in a lane (PacketRays), computed once per tracer.
+  struct LaneCell {
+    int type = 0;       ///< projection::ProjectionType
+    Vec3f originWS{0};  ///< its minimum corner, as ReliefTracer::cellFrame computes it
+    float axis = 0, cellFace = 0, centreFace = 0;
+    float point[3] = {0, 0, 0};
+    float layerOfFace[6] = {-1, -1, -1, -1, -1, -1};
+    float interior = 0, centreInside = 0, openCell = 0;
+  };
+
+  LaneCell laneCell(const relief::CellRecord& r) const {
     const relief::ReliefModel& m = model();
-    PacketCell c;
-    c.projectionType = r.projectionType;
-    c.faceOrAxis = r.faceOrAxis;
+    LaneCell c;
+    c.type = r.projectionType;
+    const float cellSize = float(m.cellSizeWS);
+    c.originWS = Vec3f(m.originWS) + Vec3f(r.ijk()) * cellSize;
+    const bool parallel = r.projectionType == std::uint8_t(projection::ProjectionType::Parallel);
+    c.axis = float(parallel ? r.faceOrAxis / 2 : r.faceOrAxis);
+    c.cellFace = float(r.faceOrAxis);
+    c.centreFace = float(projection::firstFace(cells::domainFacesOf(r.configuration)));
     for (int a = 0; a < 3; ++a) c.point[a] = r.point[a];
-    c.centreFace = projection::firstFace(cells::domainFacesOf(r.configuration));
-    for (int f = 0; f < cells::kFaceCount; ++f) c.layerOfFace[f] = r.layerOf(f);
-    c.interior = r.configuration == 0;
-    c.centreInside = r.centreInside();
-    c.openCell = r.openSurface();
-    c.codes = codes.data;
-    c.codeBits = int(sizeof(*codes.data) * 8);
-    c.gather16 = mGather16 && c.codeBits == 16;
-    c.texels = m.texels;
-    c.distanceScale = float(m.distanceCodec.scale());
-    c.emptyCode = float(m.distanceCodec.emptyCode());
+    for (int f = 0; f < cells::kFaceCount; ++f) c.layerOfFace[f] = float(r.layerOf(f));
+    c.interior = r.configuration == 0 ? 1.0f : 0.0f;
+    c.centreInside = r.centreInside() ? 1.0f : 0.0f;
+    c.openCell = r.openSurface() ? 1.0f : 0.0f;
     return c;
   }
+
+  template <class Codes>
+  PacketMaps packetMaps(const Codes& codes) const {
+    const relief::ReliefModel& m = model();
+    PacketMaps maps;
+    maps.codes = codes.data;
+    maps.codeBits = int(sizeof(*codes.data) * 8);
+    maps.gather16 = mGather16 && maps.codeBits == 16;
+    maps.texels = m.texels;
+    maps.distanceScale = float(m.distanceCodec.scale());
+    maps.emptyCode = float(m.distanceCodec.emptyCode());
+    return maps;
+  }
+
+  /// Sort key of a ray standing in a grey cell: projection type, cell, ray. A packet is a run of
+  /// one type: rays of one cell where they are many (coherent rays), of several where not.
+  static std::uint64_t sortKey(int type, std::int32_t cell, std::uint32_t ray) {
+    return (std::uint64_t(type) << 62) | (std::uint64_t(cell) << 32) | ray;
+  }
+  static std::uint32_t rayOf(std::uint64_t key) { return std::uint32_t(key); }
+  static std::int32_t cellOf(std::uint64_t key) { return std::int32_t((key >> 32) & 0x3fffffffu); }
 
   template <class Codes>
   void traceStream(const Codes& codes, std::span<const Rayf> rays, std::span<Hit> hits,
                    bool shade) const {
     auto acc = mReference.cellGrid().getConstUnsafeAccessor();
+    const PacketMaps maps = packetMaps(codes);
+    const std::size_t vector = std::size_t(packetVectorLanes());
     std::vector<RayState> states(rays.size());
-    std::vector<std::pair<std::int32_t, std::uint32_t>> pending, next;  // (cell, ray)
+    std::vector<std::uint64_t> pending, next;
     pending.reserve(rays.size());
     next.reserve(rays.size());
+    auto stand = [&](std::vector<std::uint64_t>& into, std::uint32_t i) {
+      into.push_back(sortKey(mCells[states[i].cell].type, states[i].cell, i));
+    };
     for (std::size_t i = 0; i < rays.size(); ++i) {
       hits[i] = Hit{};
-      if (start(rays[i], states[i], acc)) pending.emplace_back(states[i].cell, std::uint32_t(i));
+      if (start(rays[i], states[i], acc)) stand(pending, std::uint32_t(i));
     }
     while (!pending.empty()) {
       std::sort(pending.begin(), pending.end());
       for (std::size_t b = 0; b < pending.size();) {
+        const int type = mCells[cellOf(pending[b])].type;
         std::size_t e = b + 1;
         while (e < pending.size() && e - b < std::size_t(kPacketLanes) &&
-               pending[e].first == pending[b].first)
+               mCells[cellOf(pending[e])].type == type)
           ++e;
-        searchPacket(codes, std::span(pending).subspan(b, e - b), states, hits, shade, acc, next);
+        searchPacket(maps, type, std::span(pending).subspan(b, e - b), vector, states, hits, shade,
+                     acc, [&](std::uint32_t i) { stand(next, i); });
         b = e;
       }
       std::swap(pending, next);
@@ -169,31 +205,41 @@ class ReliefPacketTracer {
     }
   }
 
-  /// Searches rays standing in one grey cell (ReliefTracer::searchCell, lane by lane); rays
-  /// without a hit walk on to their next grey cell, into `next`.
-  template <class Codes>
-  void searchPacket(const Codes& codes,
-                    std::span<const std::pair<std::int32_t, std::uint32_t>> lanes,
-                    std::vector<RayState>& states, std::span<Hit> hits, bool shade, Accessor& acc,
-                    std::vector<std::pair<std::int32_t, std::uint32_t>>& next) const {
+  /// Searches rays standing in grey cells of one projection type (ReliefTracer::searchCell, lane
+  /// by lane); rays without a hit walk on to their next grey cell and are handed to `walkOn`.
+  template <class WalkOn>
+  void searchPacket(const PacketMaps& maps, int type, std::span<const std::uint64_t> lanes,
+                    std::size_t vector, std::vector<RayState>& states, std::span<Hit> hits,
+                    bool shade, Accessor& acc, WalkOn&& walkOn) const {
     const relief::ReliefModel& m = model();
-    const std::int32_t index = lanes.front().first;
-    const relief::CellRecord& record = m.cells[index];
-    const PacketCell cell = packetCell(codes, record);
     const float cellSize = float(m.cellSizeWS);
-    const Vec3f cellOrigin = Vec3f(m.originWS) + Vec3f(record.ijk()) * cellSize;
     PacketRays packet;
     packet.count = int(lanes.size());
-    for (int l = 0; l < kPacketLanes; ++l) {
-      // Lanes past the count repeat the first ray: the search computes them and drops them.
-      const RayState& s = states[lanes[std::size_t(l) < lanes.size() ? l : 0].second];
-      const Vec3f o = (s.ray.origin - cellOrigin) / cellSize, d = s.ray.direction / cellSize;
+    packet.projectionType = type;
+    // Lanes past the count, up to a whole vector, repeat the first ray: computed and dropped.
+    const std::size_t filled =
+        std::min(std::size_t(kPacketLanes), (lanes.size() + vector - 1) / vector * vector);
+    for (std::size_t l = 0; l < filled; ++l) {
+      const std::uint64_t key = lanes[l < lanes.size() ? l : 0];
+      const RayState& s = states[rayOf(key)];
+      const LaneCell& c = mCells[cellOf(key)];
+      packet.axis[l] = c.axis;
+      packet.cellFace[l] = c.cellFace;
+      packet.centreFace[l] = c.centreFace;
+      packet.px[l] = c.point[0], packet.py[l] = c.point[1], packet.pz[l] = c.point[2];
+      for (int f = 0; f < cells::kFaceCount; ++f) packet.layerOfFace[f][l] = c.layerOfFace[f];
+      packet.interior[l] = c.interior;
+      packet.centreInside[l] = c.centreInside;
+      packet.openCell[l] = c.openCell;
+      // ReliefTracer::cellFrame.
+      const Vec3f o = (s.ray.origin - c.originWS) / cellSize, d = s.ray.direction / cellSize;
       packet.ox[l] = o.x, packet.oy[l] = o.y, packet.oz[l] = o.z;
       packet.dx[l] = d.x, packet.dy[l] = d.y, packet.dz[l] = d.z;
       packet.t0[l] = s.walk->tEntry();
       packet.t1[l] = s.walk->tExit();
+      packet.linear[l] = 0;
     }
-    packetEnterCell(cell, packet);
+    packetEnterCell(maps, packet);
     // A crossing at the face where the ray enters (searchCell): the side carried in disagrees
     // with the one read here, unless both are far from the surface.
     const float nearFace = float(constants::kNearFaceSamples) / float(m.texels - 1);
@@ -201,12 +247,11 @@ class ReliefPacketTracer {
       return std::abs(f) > nearFace && std::abs(f) < float(constants::kEmptyField);
     };
     for (std::size_t l = 0; l < lanes.size(); ++l) {
-      RayState& s = states[lanes[l].second];
+      RayState& s = states[rayOf(lanes[l])];
       const float fIn = packet.fStart[l];
-      packet.linear[l] = 0;
       if (!mOpenModel && s.side != 0 && (fIn > 0) != (s.side > 0) &&
           !(farFromSurface(fIn) && farFromSurface(s.exitField))) {
-        hits[lanes[l].second] = finish(index, s, packet.t0[l], packet.faceStart[l],
+        hits[rayOf(lanes[l])] = finish(cellOf(lanes[l]), s, packet.t0[l], packet.faceStart[l],
                                        packet.uStart[l], packet.vStart[l], 1, shade);
         s.walk.reset();
         continue;
@@ -214,24 +259,24 @@ class ReliefPacketTracer {
       packet.linear[l] = float(Search::linearSteps(
           mReference.options(), double(packet.footprint[l] * float(m.texels - 1))));
     }
-    for (std::size_t l = lanes.size(); l < std::size_t(kPacketLanes); ++l) packet.linear[l] = 0;
-    packetSearchCell(cell, mReference.options().binarySteps, packet);
+    packetSearchCell(maps, mReference.options().binarySteps, packet);
     for (std::size_t l = 0; l < lanes.size(); ++l) {
-      RayState& s = states[lanes[l].second];
+      const std::uint32_t ray = rayOf(lanes[l]);
+      RayState& s = states[ray];
       if (!s.walk) continue;  // hit at the face
       const std::uint32_t steps = std::uint32_t(packet.steps[l]);
       if (packet.found[l] > 0) {
-        hits[lanes[l].second] = finish(index, s, packet.tHit[l], packet.face[l], packet.u[l],
-                                       packet.v[l], steps, shade);
+        hits[ray] = finish(cellOf(lanes[l]), s, packet.tHit[l], packet.face[l], packet.u[l],
+                           packet.v[l], steps, shade);
         continue;
       }
       s.steps += steps;
       s.side = mOpenModel ? 0 : packet.fEnd[l] > 0 ? 1 : -1;
       s.exitField = std::abs(packet.fEnd[l]);
       if (s.walk->next() && toGreyCell(s, acc))
-        next.emplace_back(s.cell, lanes[l].second);
+        walkOn(ray);
       else
-        hits[lanes[l].second].steps = s.steps;  // a miss reports its steps
+        hits[ray].steps = s.steps;  // a miss reports its steps
     }
   }
 
@@ -244,8 +289,9 @@ class ReliefPacketTracer {
   }
 
   ReliefTracer<float, Search> mReference;
-  bool mOpenModel = false;  ///< ReliefModel::openSurface(): no side carried across cell faces
-  bool mGather16 = false;   ///< PacketCell::gather16
+  bool mOpenModel = false;       ///< ReliefModel::openSurface(): no side carried across cell faces
+  bool mGather16 = false;        ///< PacketMaps::gather16
+  std::vector<LaneCell> mCells;  ///< per cell of the model
 };
 
 }  // namespace cellrelief::trace
