@@ -5,6 +5,17 @@
 /// it is ReliefTracer's scalar arithmetic in the same order (the target is built with
 /// -ffp-contract=off, so no multiply-add is fused): glm's min and max are written out as it
 /// defines them, so that even the sign of a zero matches.
+// Not compiled for SVE and RVV: the search keeps vectors in structs and arrays, which their
+// sizeless vector types cannot be. Not for NEON on 32-bit Arm: there Highway's division and
+// square root are estimates, and the lanes need IEEE's correctly rounded ones to agree with the
+// scalar tracer. (Those CPUs get the best remaining target: EMU128 or scalar.)
+#ifndef HWY_DISABLED_TARGETS
+#if defined(__arm__) && !defined(__aarch64__)
+#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV | HWY_NEON)
+#else
+#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
+#endif
+#endif
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "src/trace/packet_search.cpp"  // from the project root, an include path
 #include <hwy/foreach_target.h>                           // IWYU pragma: keep
@@ -192,7 +203,8 @@ struct Corners {
 
 /// 16-bit codes by two gathers of 32-bit words: the word at a sample holds it (low half) and its
 /// right neighbour (high half), so the rows b0 and b0 + 1 need one gather each. Offsets in bytes
-/// fit in 32 bits (packetCell checks the size); a lane without a layer reads the first word.
+/// fit in 32 bits (ReliefPacketTracer checks the size); a lane without a layer reads the first
+/// word.
 HWY_INLINE Corners GatherCorners16(D d, const PacketMaps& maps, V layer, V a0, V b0) {
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
@@ -323,7 +335,11 @@ HWY_INLINE LaneCells LoadCells(D d, const PacketRays& r, std::size_t lane) {
   c.cellFace = hn::Load(d, r.cellFace + lane);
   c.centreFace = hn::Load(d, r.centreFace + lane);
   c.point = {{hn::Load(d, r.px + lane), hn::Load(d, r.py + lane), hn::Load(d, r.pz + lane)}};
-  for (int f = 0; f < 6; ++f) c.layerOfFace[f] = hn::Load(d, r.layerOfFace[f] + lane);
+  // Lanes past the count read no maps, whatever their arrays hold.
+  const M inPacket = hn::FirstN(d, std::size_t(r.count) - lane);
+  for (int f = 0; f < 6; ++f)
+    c.layerOfFace[f] =
+        hn::IfThenElse(inPacket, hn::Load(d, r.layerOfFace[f] + lane), hn::Set(d, -1.0f));
   c.interior = hn::Eq(hn::Load(d, r.interior + lane), one);
   c.centreInside = hn::Eq(hn::Load(d, r.centreInside + lane), one);
   c.openCell = hn::Eq(hn::Load(d, r.openCell + lane), one);
@@ -381,9 +397,10 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
     const LaneRays r = LoadRays(d, rays, lane);
     const LaneCells cells = LoadCells(d, rays, lane);
     const V linear = hn::Load(d, rays.linear + lane);
-    const M searched = hn::Gt(linear, zero);
+    const std::size_t inPacket = std::min(hn::Lanes(d), std::size_t(rays.count) - lane);
+    const M searched = hn::And(hn::FirstN(d, inPacket), hn::Gt(linear, zero));
     float mostSteps = 0;
-    for (std::size_t i = 0; i < hn::Lanes(d); ++i)
+    for (std::size_t i = 0; i < inPacket; ++i)
       mostSteps = std::max(mostSteps, rays.linear[lane + i]);
     V fPrev = hn::Load(d, rays.fStart + lane), tPrev = r.t0,
       facePrev = hn::Load(d, rays.faceStart + lane);

@@ -64,7 +64,8 @@ struct PacketRays {
   alignas(64) float u[kPacketLanes], v[kPacketLanes], steps[kPacketLanes], fEnd[kPacketLanes];
 };
 
-/// Fills fStart, faceStart, uStart, vStart and footprint for the first `count` lanes.
+/// Fills fStart, faceStart, uStart, vStart and footprint for the first `count` lanes (lanes past
+/// it read no maps; their outputs are unspecified).
 void packetEnterCell(const PacketMaps& maps, PacketRays& rays);
 
 /// The linear search (rays.linear samples per lane) and the binary refinement (binarySteps) of

@@ -17,14 +17,17 @@
 /// what lanes run well.
 ///
 /// SIMD through Google Highway rather than std::experimental::simd: Highway compiles the search
-/// once per instruction set and picks the best the CPU has at run time (SSE4, AVX2, AVX-512 on
-/// x86; NEON, SVE on Arm), so neither this library nor its users need -march flags, and a
-/// test can run every instruction set the machine has; std::experimental::simd follows the
-/// compiler's flags only, and has no gather. The price is a compiled target: link
-/// cellrelief::trace_packets (opt-in, like cellrelief::indirection_ceres).
+/// once per instruction set and picks the best the CPU has at run time (SSSE3, SSE4, AVX2,
+/// AVX-512 on x86; NEON on 64-bit Arm; not SVE, see packet_search.cpp), so neither this library
+/// nor its users need -march flags, and a test can run every instruction set the machine has;
+/// std::experimental::simd follows the compiler's flags only, and has no gather. The price is a
+/// compiled target: link cellrelief::trace_packets (opt-in, like cellrelief::indirection_ceres).
+/// It compiles its users without fused multiply-adds (-ffp-contract=off, public), so that the
+/// scalar reference, compiled in the user's program, rounds as the lanes do.
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -45,14 +48,24 @@ class ReliefPacketTracer {
   using Hit = ReliefHit<float>;
 
   /// The tracer reads the model in place: it must outlive the tracer (a temporary is refused).
-  ReliefPacketTracer(relief::ReliefModel&&, const TraceOptions& = {}) = delete;
-  /// The options' skipping flags are ignored (see above).
-  explicit ReliefPacketTracer(const relief::ReliefModel& model, const TraceOptions& options = {})
+  ReliefPacketTracer(relief::ReliefModel&&, const TraceOptions& = {}, bool = true) = delete;
+  /// The options' skipping flags are ignored (see above). `gathers`: read 16-bit codes with the
+  /// CPU's gather instructions (off: scalar loads, the same values; gathers are slow on some
+  /// CPUs, e.g. AMD's before Zen 4).
+  explicit ReliefPacketTracer(const relief::ReliefModel& model, const TraceOptions& options = {},
+                              bool gathers = true)
       : mReference(model, withoutSkipping(options)), mOpenModel(model.openSurface()) {
-    // The gathers of 16-bit codes take 32-bit byte offsets.
+    // Lanes carry layer indices as floats, exact below 2^24.
+    if (model.layerCount() >= (1 << 24))
+      throw Error(ErrorKind::InvalidArgument, "ReliefPacketTracer: the model has " +
+                                                  std::to_string(model.layerCount()) +
+                                                  " layers; the packet search reads at most 2^24");
+    // The gathers of 16-bit codes take 32-bit byte offsets, and read two codes of a little-endian
+    // word.
     const std::size_t bytes =
         std::size_t(model.layerCount()) * std::size_t(model.texels) * std::size_t(model.texels) * 2;
-    mGather16 = model.distanceCodec.bits == 16 && bytes > 0 && bytes < (std::size_t(1) << 31);
+    mGather16 = gathers && model.distanceCodec.bits == 16 && bytes > 0 &&
+                bytes < (std::size_t(1) << 31) && std::endian::native == std::endian::little;
     mCells.reserve(model.cells.size());
     for (const relief::CellRecord& r : model.cells) mCells.push_back(laneCell(r));
   }
@@ -73,6 +86,11 @@ class ReliefPacketTracer {
   /// false, as occluded() runs it), for every i. On the calling thread; callers trace blocks of
   /// a few thousand rays in parallel (a block is what one sort gathers into packets).
   void intersect(std::span<const Rayf> rays, std::span<Hit> hits, bool shade = true) const {
+    if (rays.size() >
+        std::numeric_limits<std::uint32_t>::max())  // the sort key holds 32 bits of ray
+      throw Error(ErrorKind::InvalidArgument,
+                  "ReliefPacketTracer::intersect: " + std::to_string(rays.size()) +
+                      " rays in one call; at most 2^32 - 1");
     if (hits.size() != rays.size())
       throw Error(ErrorKind::InvalidArgument,
                   "ReliefPacketTracer::intersect: " + std::to_string(rays.size()) +
@@ -169,6 +187,8 @@ class ReliefPacketTracer {
     return (std::uint64_t(type) << 62) | (std::uint64_t(cell) << 32) | ray;
   }
   static std::uint32_t rayOf(std::uint64_t key) { return std::uint32_t(key); }
+  // 30 bits of cell: CellRecord packs i, j, k in 10 bits each, so a model has at most 2^30 cells.
+  /// 30 bits of cell: CellRecord packs i, j, k in 10 bits each, so a model has at most 2^30 cells.
   static std::int32_t cellOf(std::uint64_t key) { return std::int32_t((key >> 32) & 0x3fffffffu); }
 
   template <class Codes>
