@@ -28,6 +28,7 @@
 #include <limits>
 
 #include "cellrelief/trace/packet_search.h"
+#include "cellrelief/trace/trace_options.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace cellrelief::trace {
@@ -39,10 +40,9 @@ using D = hn::CappedTag<float, kPacketLanes>;
 using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 
-// Must match trace_options.h (constants::kEmptyField, kFootprintProbes); the scalar tracer's
-// header brings OpenVDB, which this file keeps out.
-constexpr float kEmptyField = 4.0f;
-constexpr int kFootprintProbes = 3;
+// The traversal's constants, shared with the scalar tracer and the shaders.
+constexpr float kEmptyField = constants::kEmptyField;
+constexpr int kFootprintProbes = constants::kFootprintProbes;
 
 /// glm's max and min: (a < b) ? b : a and (b < a) ? b : a.
 HWY_INLINE V GlmMax(V a, V b) {

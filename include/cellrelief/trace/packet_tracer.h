@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
 /// @file packet_tracer.h
-/// Ray casting of a relief model in SIMD packets: a stream of rays is walked cell by cell, the
-/// rays that stand in the same grey cell are gathered, and up to kPacketLanes of them at a time
-/// are searched together, one ray per lane (packet_search.h). The stream is sorted by cell at
-/// every step of the walk, so coherent primary rays fill the lanes, and incoherent secondary
-/// rays fill them wherever several meet in one cell.
+/// Ray casting of a relief model in SIMD packets: a stream of rays is walked cell by cell; at
+/// every step of the walk the rays standing in grey cells are sorted by (projection type, cell,
+/// ray) and searched up to kPacketLanes at a time, one ray per lane, each lane with its own cell
+/// (packet_search.h). Coherent primary rays fill a packet from one cell; incoherent secondary
+/// rays fill it from several cells of one projection type.
 ///
 /// It answers what ReliefTracer<float, Search> answers with the same options and skipping off
 /// (reference()): the paper's linear + binary search in every cell, the side of the surface
 /// carried across cell faces, the hit shaded the same way. Each lane's arithmetic is the scalar
-/// tracer's, so every hit agrees bit for bit (t, cell, face, steps; tests/trace).
+/// tracer's, so every hit agrees bit for bit (t, position, face coordinates, cell, face, steps,
+/// normal, color; tests/trace).
 ///
 /// Why no skipping: the empty-space walk (empty_space.h) descends and climbs a pyramid with a
 /// different path per ray; in lanes it would run as long as the slowest lane. The linear search
@@ -187,7 +188,6 @@ class ReliefPacketTracer {
     return (std::uint64_t(type) << 62) | (std::uint64_t(cell) << 32) | ray;
   }
   static std::uint32_t rayOf(std::uint64_t key) { return std::uint32_t(key); }
-  // 30 bits of cell: CellRecord packs i, j, k in 10 bits each, so a model has at most 2^30 cells.
   /// 30 bits of cell: CellRecord packs i, j, k in 10 bits each, so a model has at most 2^30 cells.
   static std::int32_t cellOf(std::uint64_t key) { return std::int32_t((key >> 32) & 0x3fffffffu); }
 
