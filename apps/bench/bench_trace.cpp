@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -329,9 +330,13 @@ int run(int argc, char** argv) {
                                    .skipCentralCells = p.skip == 2};
       const trace::ReliefTracerf tracer(*model, to);
       auto traceOne = [&](const Rayf& r) { return tracer.intersect(r).t; };
+#if CELLRELIEF_HAS_PACKETS
+      std::optional<trace::ReliefPacketTracer<>> packets;
+      if (p.skip == 3) packets.emplace(*model, to);
+#endif
       auto traceSet = [&](const std::vector<Rayf>& rays) {
 #if CELLRELIEF_HAS_PACKETS
-        if (p.skip == 3) return traceAllPackets(rays, t, repeats, trace::ReliefPacketTracer<>(*model, to));
+        if (packets) return traceAllPackets(rays, t, repeats, *packets);
 #endif
         return traceAll(rays, t, repeats, traceOne);
       };

@@ -127,17 +127,11 @@ class ReliefPacketTracer {
   /// The ray set up as traceWith sets it up; false when it meets no grey cell (hit stays a miss).
   bool start(const Rayf& input, RayState& s, Accessor& acc) const {
     s.ray = input;
-    s.ray.setDirection(input.direction);
-    const Rayf& ray = s.ray;
-    const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
-                        std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
-                        std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
-    if (!finite || ray.direction == Vec3f(0) || !(ray.tmin <= ray.tmax)) return false;
-    const RayInterval<float> span = cellrelief::intersect(ray, mReference.boundsWS());
-    if (!span.hit) return false;
+    const std::optional<RayInterval<float>> span = mReference.prepareRay(s.ray);
+    if (!span) return false;
     const relief::ReliefModel& m = model();
-    s.walk.emplace(ray, Vec3f(m.originWS), float(m.cellSizeWS), m.gridSize, span.t0, span.t1);
-    s.side = span.t0 > ray.tmin ? -1 : 0;
+    s.walk.emplace(s.ray, Vec3f(m.originWS), float(m.cellSizeWS), m.gridSize, span->t0, span->t1);
+    s.side = span->t0 > s.ray.tmin ? -1 : 0;
     return toGreyCell(s, acc);
   }
 
@@ -260,17 +254,11 @@ class ReliefPacketTracer {
       packet.linear[l] = 0;
     }
     packetEnterCell(maps, packet);
-    // A crossing at the face where the ray enters (searchCell): the side carried in disagrees
-    // with the one read here, unless both are far from the surface.
-    const float nearFace = float(constants::kNearFaceSamples) / float(m.texels - 1);
-    auto farFromSurface = [&](float f) {
-      return std::abs(f) > nearFace && std::abs(f) < float(constants::kEmptyField);
-    };
+    // A crossing at the face where the ray enters (searchCell).
     for (std::size_t l = 0; l < lanes.size(); ++l) {
       RayState& s = states[rayOf(lanes[l])];
-      const float fIn = packet.fStart[l];
-      if (!mOpenModel && s.side != 0 && (fIn > 0) != (s.side > 0) &&
-          !(farFromSurface(fIn) && farFromSurface(s.exitField))) {
+      if (!mOpenModel && s.side != 0 &&
+          mReference.crossesAtFace(packet.fStart[l], s.side > 0, s.exitField)) {
         hits[rayOf(lanes[l])] = finish(cellOf(lanes[l]), s, packet.t0[l], packet.faceStart[l],
                                        packet.uStart[l], packet.vStart[l], 1, shade);
         s.walk.reset();

@@ -113,6 +113,15 @@ class ReliefTracer {
   /// returns for a search that met the surface at t in cell `index` (where the point projects:
   /// fp), shaded as intersect() shades it.
   const openvdb::Int32Grid& cellGrid() const { return *mGrid; }
+  /// The ray as intersect() traces it, set up in place (its inverse direction recomputed: the
+  /// ray's fields are public and may disagree), and its stretch inside the grid; nullopt when it
+  /// meets nothing: a ray without a finite origin and a finite, non-zero direction, with an
+  /// empty or NaN interval, or one that misses the grid.
+  std::optional<RayInterval<T>> prepareRay(Ray<T>& ray) const;
+  /// searchCell's rule at a cell face, for a known side in a closed model: a ray that was
+  /// inside (or not) and left the last grey cell where |f| was `exitField` meets the surface at
+  /// the face of a cell whose field reads fIn there.
+  bool crossesAtFace(T fIn, bool inside, T exitField) const;
   Hit finishHit(std::int32_t index, const Ray<T>& ray, T t, const projection::FacePoint<T>& fp,
                 std::uint32_t steps, bool shadeHit) const;
 

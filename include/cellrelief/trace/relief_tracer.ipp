@@ -53,20 +53,37 @@ auto ReliefTracer<T, Search>::finishHit(std::int32_t index, const Ray<T>& ray, T
 }
 
 template <Real T, SearchPolicy Search>
-template <class Codes>
-auto ReliefTracer<T, Search>::traceWith(const Codes& codes, const Ray<T>& input,
-                                        bool shadeHit) const -> Hit {
-  // The inverse direction is recomputed: the ray's fields are public and may disagree.
-  Ray<T> ray = input;
-  ray.setDirection(input.direction);
-  // A ray without a finite origin and a finite, non-zero direction, or with an empty or NaN
-  // interval, meets nothing (and must not reach the index arithmetic below).
+auto ReliefTracer<T, Search>::prepareRay(Ray<T>& ray) const -> std::optional<RayInterval<T>> {
+  ray.setDirection(ray.direction);
+  // Such rays meet nothing, and must not reach the walk's index arithmetic.
   const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
                       std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
                       std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
-  if (!finite || ray.direction == Vec3<T>(0) || !(ray.tmin <= ray.tmax)) return {};
+  if (!finite || ray.direction == Vec3<T>(0) || !(ray.tmin <= ray.tmax)) return std::nullopt;
   const RayInterval<T> span = cellrelief::intersect(ray, mBounds);
-  if (!span.hit) return {};
+  if (!span.hit) return std::nullopt;
+  return span;
+}
+
+template <Real T, SearchPolicy Search>
+auto ReliefTracer<T, Search>::crossesAtFace(T fIn, bool inside, T exitField) const -> bool {
+  // A crossing unless both cells read a real distance far from the surface there: then they
+  // disagree because one of them misreads the side (a projection line that meets the surface
+  // twice, past the occlusion the grid size allows), and the entered cell is trusted. An empty
+  // line (no surface sampled, as in a sliver thinner than a sample) tells nothing against it.
+  const T nearFace = T(constants::kNearFaceSamples) / T(mModel.texels - 1);
+  auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
+  return (fIn > 0) != inside && !(farFromSurface(fIn) && farFromSurface(exitField));
+}
+
+template <Real T, SearchPolicy Search>
+template <class Codes>
+auto ReliefTracer<T, Search>::traceWith(const Codes& codes, const Ray<T>& input,
+                                        bool shadeHit) const -> Hit {
+  Ray<T> ray = input;
+  const std::optional<RayInterval<T>> prepared = prepareRay(ray);
+  if (!prepared) return {};
+  const RayInterval<T>& span = *prepared;
   // Unregistered: a registered accessor takes a lock in the tree on creation, once per ray.
   auto acc = mGrid->getConstUnsafeAccessor();
   GridDda<T> walk(ray, mOrigin, mCellSize, mModel.gridSize, span.t0, span.t1);
@@ -146,16 +163,9 @@ auto ReliefTracer<T, Search>::searchCell(const Codes& codes, const P& proj,
   auto local = [&](T t) { return frame.origin + t * frame.direction; };
   projection::FacePoint<T> fp;
   const T fIn = field(codes, proj, r, local(t0), fp);
-  // A crossing at the face unless both cells read a real distance far from the surface there:
-  // then they disagree because one of them misreads the side (a projection line that meets the
-  // surface twice, past the occlusion the grid size allows), and the entered cell is trusted.
-  // An empty line (no surface sampled, as in a sliver thinner than a sample) tells nothing
-  // against the crossing.
-  const T nearFace = T(constants::kNearFaceSamples) / T(mModel.texels - 1);
-  auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
   // An open model's cells read the side each on its own (ReliefModel::openSurface()).
-  if (!mOpenModel && side.where != Side::Unknown && (fIn > 0) != (side.where == Side::Inside) &&
-      !(farFromSurface(fIn) && farFromSurface(side.exitField)))
+  if (!mOpenModel && side.where != Side::Unknown &&
+      crossesAtFace(fIn, side.where == Side::Inside, side.exitField))
     return makeHit(index, ray, t0, fp, 1);
   // The linear search starts where the field was just read and ends where the next cell's
   // side is decided: it hands both values over instead of reading them again.
