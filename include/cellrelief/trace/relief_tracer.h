@@ -363,3 +363,20 @@ using ReliefTracerd = ReliefTracer<double>;
 }  // namespace cellrelief::trace
 
 #include "cellrelief/trace/relief_tracer.ipp"
+
+// The project's own programs and tests compile the common tracers once, in
+// src/trace/relief_tracer_instances.cpp (target cellrelief_trace_instances, which defines this
+// macro for what links it), instead of once per program: each instantiation is over ten seconds
+// of the compiler's time. Users of the headers instantiate them as usual.
+#ifdef CELLRELIEF_EXTERN_RELIEF_TRACER
+#define CELLRELIEF_RELIEF_TRACER_INSTANCES(EXTERN, T)                                            \
+  EXTERN template class ReliefTracer<T, BalancedSearch>;                                        \
+  EXTERN template ReliefTracer<T, BalancedSearch>::Hit ReliefTracer<T, BalancedSearch>::traceWith( \
+      const relief::DistanceCodes<std::uint8_t>&, const Ray<T>&, bool) const;                   \
+  EXTERN template ReliefTracer<T, BalancedSearch>::Hit ReliefTracer<T, BalancedSearch>::traceWith( \
+      const relief::DistanceCodes<std::uint16_t>&, const Ray<T>&, bool) const;
+namespace cellrelief::trace {
+CELLRELIEF_RELIEF_TRACER_INSTANCES(extern, float)
+CELLRELIEF_RELIEF_TRACER_INSTANCES(extern, double)
+}  // namespace cellrelief::trace
+#endif
