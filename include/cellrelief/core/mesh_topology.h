@@ -19,12 +19,14 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
 #include <tbb/parallel_sort.h>
 
+#include "cellrelief/core/error.h"
 #include "cellrelief/core/triangle_mesh.h"
 #include "cellrelief/core/union_find.h"
 
@@ -118,6 +120,10 @@ inline MeshTopology analyzeTopology(const TriangleMesh& mesh) {
   MeshTopology r;
   const std::size_t nv = mesh.positions.size();
   const std::size_t nf = mesh.triangles.size();
+  // Corners and edge uses are counted in 32 bits (3 per triangle): refused beyond, not wrapped.
+  if (3 * nf >= (std::size_t(1) << 32))
+    throw Error(ErrorKind::ResourceLimit, "mesh topology: " + std::to_string(nf) +
+                                              " triangles, more than the analysis counts (1,431,655,765)");
   r.vertices = nv;
   r.triangles = nf;
 
