@@ -2,7 +2,8 @@
 /// @file mesh_topology.h
 /// What is unusual about a triangle mesh: components, boundary, non-manifold edges and vertices,
 /// inconsistent orientation, degenerate triangles, Euler characteristic and genus. Computed from the
-/// indexed soup by grouping edges by vertex (linear), so it works on inputs a half-edge structure rejects.
+/// indexed soup by grouping edges by vertex (linear time), so it works on inputs a half-edge
+/// structure rejects.
 ///
 /// Definitions (chosen to match the figures in the test data's SOURCES.md):
 /// - an edge is boundary when one triangle uses it, non-manifold when three or more do;
@@ -63,9 +64,7 @@ inline bool hasZeroArea(const TriangleMesh& mesh, const Vec3u& t) {
   const Vec3d n = glm::cross(b - a, c - a);
   return n.x == 0 && n.y == 0 && n.z == 0;
 }
-}  // namespace detail
 
-namespace detail {
 /// One triangle's use of an edge: the sorted vertex pair, the corners it joins and its direction.
 struct EdgeUse {
   std::uint32_t a, b;  // a < b
