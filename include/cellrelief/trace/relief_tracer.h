@@ -355,6 +355,7 @@ class ReliefTracer {
   T mDistanceScale = 0;
   EmptySpacePyramid mPyramid;
   bool mOpenModel = false;  ///< ReliefModel::openSurface(): no side carried across cell faces
+  T mNearFace = 0;  ///< kNearFaceSamples sample spacings in cell units (crossesAtFace)
 };
 
 using ReliefTracerf = ReliefTracer<float>;

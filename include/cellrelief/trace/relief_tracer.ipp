@@ -20,6 +20,7 @@ ReliefTracer<T, Search>::ReliefTracer(const relief::ReliefModel& model, const Tr
   mDistanceScale = T(model.distanceCodec.scale());
   if (options.skipEmptySpace) mPyramid = EmptySpacePyramid(model);
   mOpenModel = model.openSurface();
+  mNearFace = T(constants::kNearFaceSamples) / T(model.texels - 1);
 }
 
 template <Real T, SearchPolicy Search>
@@ -71,8 +72,7 @@ auto ReliefTracer<T, Search>::crossesAtFace(T fIn, bool inside, T exitField) con
   // disagree because one of them misreads the side (a projection line that meets the surface
   // twice, past the occlusion the grid size allows), and the entered cell is trusted. An empty
   // line (no surface sampled, as in a sliver thinner than a sample) tells nothing against it.
-  const T nearFace = T(constants::kNearFaceSamples) / T(mModel.texels - 1);
-  auto farFromSurface = [&](T f) { return std::abs(f) > nearFace && std::abs(f) < kEmptyField; };
+  auto farFromSurface = [&](T f) { return std::abs(f) > mNearFace && std::abs(f) < kEmptyField; };
   return (fIn > 0) != inside && !(farFromSurface(fIn) && farFromSurface(exitField));
 }
 
