@@ -32,12 +32,12 @@
 #include <string>
 #include <vector>
 
-#include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_sort.h>
 
 #include "cellrelief/cells/configuration.h"
+#include "cellrelief/cells/openvdb_grids.h"
 #include "cellrelief/cells/triangle_box.h"
 #include "cellrelief/cells/winding_number.h"
 #include "cellrelief/core/aabb.h"

@@ -53,8 +53,7 @@
 #include <optional>
 #include <type_traits>
 
-#include <openvdb/openvdb.h>
-
+#include "cellrelief/cells/openvdb_grids.h"
 #include "cellrelief/core/aabb.h"
 #include "cellrelief/core/ray.h"
 #include "cellrelief/relief/relief_model.h"
