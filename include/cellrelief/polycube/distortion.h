@@ -88,6 +88,17 @@ inline TriangleStretch triangleStretch(const TriangleFrame& frame, const Vec3d& 
   return {j.frobenius2(), j.signedArea(outward)};
 }
 
+/// A texture triangle counts as flat, with the flipped ones, when its area is below this
+/// fraction of its share (its mesh area times the map's texture area per mesh area): its area
+/// distortion would exceed 1/2 x 10^10, and its vertices are one point or one line in doubles.
+inline constexpr double kFlatShare = 1e-10;
+
+/// Whether a triangle of mesh area `meshArea` is flipped or flat at `scale2` texture area per
+/// unit of mesh area.
+inline bool flippedOrFlat(double signedArea, double meshArea, double scale2) {
+  return !(signedArea > kFlatShare * meshArea * scale2);
+}
+
 /// The measures over a whole map; `outward(i)` gives triangle i's outward direction.
 template <class Outward>
 Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<const Vec3u> triangles,
@@ -101,21 +112,25 @@ Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<co
     if (frames[i].degenerate()) continue;
     const Vec3u& t = triangles[i];
     stretch[i] = triangleStretch(frames[i], texture[t[0]], texture[t[1]], texture[t[2]], outward(i));
-    if (!(stretch[i].signedArea > 0)) {
-      ++d.flipped;
-      continue;
-    }
+    if (!(stretch[i].signedArea > 0)) continue;
     meshArea += frames[i].area;
     textureArea += stretch[i].signedArea;
   }
   if (!(meshArea > 0)) {
+    for (std::size_t i = 0; i < triangles.size(); ++i) d.flipped += frames[i].degenerate() ? 0 : 1;
     d.area = d.angle = d.stretchEfficiency = 0;
     return d;
   }
   const double scale2 = textureArea / meshArea;  // texture area per unit of mesh area
+  meshArea = 0;
   double area = 0, angle = 0, stretch2 = 0;
   for (std::size_t i = 0; i < triangles.size(); ++i) {
-    if (frames[i].degenerate() || !(stretch[i].signedArea > 0)) continue;
+    if (frames[i].degenerate()) continue;
+    if (flippedOrFlat(stretch[i].signedArea, frames[i].area, scale2)) {
+      ++d.flipped;
+      continue;
+    }
+    meshArea += frames[i].area;
     const double m = frames[i].area;
     const double s1s2 = stretch[i].signedArea / (m * scale2);   // after scaling to equal areas
     const double sum2 = stretch[i].frobenius2 / scale2;          // s1^2 + s2^2, scaled likewise

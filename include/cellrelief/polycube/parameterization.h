@@ -286,11 +286,14 @@ class PolycubeParameterizer {
   /// untangling regularization is on: then s1 s2 is replaced by (D + sqrt(eps^2 + D^2)) / 2,
   /// positive for every triangle and close to D where D >> eps (Garanzha et al. 2021,
   /// "Foldover-free maps in 50 lines of code"), so descent can pull flipped triangles back.
+  /// The last untangling phase uses that paper's energy, MIPS plus (D^2 + 1) / s1 s2 for the
+  /// area, which grows only as 1 / s1 s2 where extended MIPS grows as its fourth power.
   double triangleEnergy(const TriangleFrame& frame, const TriangleStretch& s) const {
-    double s1s2 = s.signedArea / (frame.area * mScale2);
-    if (mEpsilon > 0) s1s2 = 0.5 * (s1s2 + std::sqrt(mEpsilon * mEpsilon + s1s2 * s1s2));
-    if (!(s1s2 > 0)) return std::numeric_limits<double>::infinity();
+    const double d = s.signedArea / (frame.area * mScale2);
+    const double s1s2 = mEpsilon > 0 ? 0.5 * (d + std::sqrt(mEpsilon * mEpsilon + d * d)) : d;
+    if (!(s1s2 > kFlatShare)) return std::numeric_limits<double>::infinity();
     const double angle = s.frobenius2 / mScale2 / s1s2;  // s1/s2 + s2/s1
+    if (mUntangleEnergy) return frame.area * (angle + (d * d + 1) / s1s2);
     if (mOptions.energy != PolycubeEnergy::ExtendedMips) return frame.area * angle;
     return frame.area * angle * std::pow(s1s2 + 1 / s1s2, mOptions.theta);
   }
@@ -318,6 +321,7 @@ class PolycubeParameterizer {
   struct Survey {
     std::size_t flipped = 0;  ///< flipped or flat triangles
     double energy = 0;        ///< of the others
+    double smallestArea = 0;  ///< the smallest signed texture area over the triangle's share
   };
 
   /// One pass over the triangles at the current positions: the flipped ones, the area scale
@@ -334,13 +338,14 @@ class PolycubeParameterizer {
       if (stretch[i].signedArea > 0) {
         mesh += mFrames[i].area;
         texture += stretch[i].signedArea;
-      } else {
-        ++result.flipped;
       }
     }
     mScale2 = mesh > 0 && texture > 0 ? texture / mesh : 1.0;
+    result.smallestArea = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < mTriangles.size(); ++i) {
       if (mFrames[i].degenerate()) continue;
+      result.smallestArea = std::min(result.smallestArea, stretch[i].signedArea / (mFrames[i].area * mScale2));
+      if (flippedOrFlat(stretch[i].signedArea, mFrames[i].area, mScale2)) ++result.flipped;
       const double e = triangleEnergy(mFrames[i], stretch[i]);
       if (std::isfinite(e)) result.energy += e;
     }
@@ -348,45 +353,63 @@ class PolycubeParameterizer {
   }
 
   /// Untangles the folds normal projection leaves at the polycube's concave creases and where
-  /// a feature is thinner than a cube: mean-value sweeps while they lower the number of flipped
-  /// triangles, then sweeps of the regularized energy with eps shrinking. Keeps the state with
-  /// the fewest flips; returns the sweep count, continued from `sweep`.
+  /// a feature is thinner than a cube, in three phases, each run until 20 sweeps have not
+  /// lowered the number of flipped triangles and each starting from the state with the fewest:
+  /// 1. mean-value sweeps;
+  /// 2. the chosen energy, regularized with eps shrinking by a tenth per sweep;
+  /// 3. Garanzha et al.'s energy and eps rule: after three sweeps at one eps, with sigma the
+  ///    fraction they lowered the energy by (at least 1/10) and D- the smallest normalized
+  ///    area, mu = (1 - sigma) chi(D-, eps) and eps = 2 sqrt(mu (mu - D-)) while D- < mu.
+  ///    It keeps eps near the worst fold's size, where the fixed schedule of phase 2 shrinks
+  ///    it past folds that are not yet undone (the armadillo at N = 16: 10 flips left by phase
+  ///    2 on its 3,000-vertex decimation, 1 by phase 3).
+  /// Phases 2 and 3 run only while flips are left. Returns the sweep count, continued from
+  /// `sweep`; phase 3 counts each of its sweeps.
   int untangle(const ParameterizationOptions& options, int sweep) {
-    int sinceBest = 0;
     const int limit = sweep + options.maxSweeps;
     std::size_t best = survey().flipped;
     std::vector<Vec3d> bestTexture = mTexture, bestNormals = mNormals;
-    bool regularized = false;
     mInVertexOrder = true;
-    while (best > 0 && sweep < limit) {
-      if (sinceBest >= 20) {
-        if (regularized) break;
-        regularized = true;
-        mEpsilon = 1;
-        sinceBest = 0;
-        mTexture = bestTexture;
-        mNormals = bestNormals;
-        survey();  // the area scale of the restored positions
-      }
-      ++sweep;
-      if (regularized) {
-        energySweep();
-        mEpsilon = std::max(1e-3, 0.9 * mEpsilon);
-      } else {
-        meanValueSweep();
-      }
-      const std::size_t flipped = survey().flipped;
-      if (options.progress) options.progress(sweep, distortion());
-      if (flipped < best) {
-        best = flipped;
-        bestTexture = mTexture;
-        bestNormals = mNormals;
-        sinceBest = 0;
-      } else {
-        ++sinceBest;
+    for (int phase = 1; phase <= 3 && best > 0 && sweep < limit; ++phase) {
+      mTexture = bestTexture;
+      mNormals = bestNormals;
+      mEpsilon = phase == 1 ? 0.0 : 1.0;
+      mUntangleEnergy = phase == 3;
+      double energy = survey().energy;  // also the area scale of the restored positions
+      for (int sinceBest = 0; best > 0 && sweep < limit && sinceBest < 20;) {
+        if (phase == 1) {
+          meanValueSweep();
+          ++sweep;
+        } else if (phase == 2) {
+          energySweep();
+          ++sweep;
+          mEpsilon = std::max(1e-3, 0.9 * mEpsilon);
+        } else {
+          for (int k = 0; k < 3; ++k, ++sweep) {
+            energySweep();
+            survey();
+          }
+          const Survey after = survey();
+          const double sigma = std::max(1 - after.energy / energy, 0.1);
+          const double dMin = after.smallestArea;
+          const double mu = (1 - sigma) * 0.5 * (dMin + std::sqrt(mEpsilon * mEpsilon + dMin * dMin));
+          mEpsilon = dMin < mu ? std::max(2 * std::sqrt(mu * (mu - dMin)), 1e-6) : 1e-6;
+          energy = survey().energy;  // at the new eps
+        }
+        const std::size_t flipped = survey().flipped;
+        if (options.progress) options.progress(sweep, distortion());
+        if (flipped < best) {
+          best = flipped;
+          bestTexture = mTexture;
+          bestNormals = mNormals;
+          sinceBest = 0;
+        } else {
+          ++sinceBest;
+        }
       }
     }
     mEpsilon = 0;
+    mUntangleEnergy = false;
     mInVertexOrder = false;
     mTexture = std::move(bestTexture);
     mNormals = std::move(bestNormals);
@@ -515,23 +538,30 @@ class PolycubeParameterizer {
       const double sign = glm::dot(j.cross, outward(i)) > 0 ? 1.0 : -1.0;
       const double area = sign * 0.5 * length;
       const double frobenius2 = j.frobenius2();
-      double d = area / (frame.area * mScale2), dd = 1;  // dd: the regularization's derivative
+      const double raw = area / (frame.area * mScale2);
+      double d = raw, dd = 1;  // d: s1 s2 or its regularization; dd: its derivative by raw
       if (mEpsilon > 0) {
-        const double root = std::sqrt(mEpsilon * mEpsilon + d * d);
-        dd = 0.5 * (1 + d / root);
-        d = 0.5 * (d + root);
+        const double root = std::sqrt(mEpsilon * mEpsilon + raw * raw);
+        dd = 0.5 * (1 + raw / root);
+        d = 0.5 * (raw + root);
       }
       if (!(d > 0)) continue;
-      const double q = theta > 0 ? std::pow(d + 1 / d, theta) : 1.0;
-      const double dQ = theta > 0 ? theta * std::pow(d + 1 / d, theta - 1) * (1 - 1 / (d * d)) : 0.0;
-      const double angle = frobenius2 / (mScale2 * d);
-      const double dEdF = frame.area * q / (mScale2 * d);
-      const double dEdd = frame.area * (-angle / d * q + angle * dQ);
+      double dEdF = 0, dEdRaw = 0;
+      if (mUntangleEnergy) {  // A (F / (S d) + (raw^2 + 1) / d)
+        dEdF = frame.area / (mScale2 * d);
+        dEdRaw = frame.area * (2 * raw / d - (frobenius2 / mScale2 + raw * raw + 1) / (d * d) * dd);
+      } else {
+        const double q = theta > 0 ? std::pow(d + 1 / d, theta) : 1.0;
+        const double dQ = theta > 0 ? theta * std::pow(d + 1 / d, theta - 1) * (1 - 1 / (d * d)) : 0.0;
+        const double angle = frobenius2 / (mScale2 * d);
+        dEdF = frame.area * q / (mScale2 * d);
+        dEdRaw = frame.area * (-angle / d * q + angle * dQ) * dd;
+      }
       const Vec3d dF = 2.0 * (j.column0 * gk.x + j.column1 * gk.y);
       const Vec3d& next = k == 0 ? u1 : k == 1 ? u2 : u0;
       const Vec3d& after = k == 0 ? u2 : k == 1 ? u0 : u1;
       const Vec3d dX = sign * 0.5 * glm::cross(j.cross / length, after - next);
-      gradient += dEdF * dF + dEdd * dd / (frame.area * mScale2) * dX;
+      gradient += dEdF * dF + dEdRaw / (frame.area * mScale2) * dX;
     }
     return gradient;
   }
@@ -540,9 +570,11 @@ class PolycubeParameterizer {
   void descend(std::size_t v, const RingEnergy& current) {
     const Vec3d p = mTexture[v], n = mNormals[v];
     double shortest = std::numeric_limits<double>::infinity();
+    // A neighbour at the same point (a fold collapsed onto one point) gives no length: the
+    // step takes the shortest of the others, or the vertex would never leave it.
     for (std::size_t k = mNeighbourStart[v]; k < mNeighbourStart[v + 1]; ++k)
-      shortest = std::min(shortest, glm::length(mTexture[mNeighbours[k].first] - p));
-    if (!(shortest > 0) || !std::isfinite(shortest)) return;
+      if (const double d = glm::length(mTexture[mNeighbours[k].first] - p); d > 0) shortest = std::min(shortest, d);
+    if (!std::isfinite(shortest)) return;
     Vec3d gradient = ringGradient(v);
     gradient -= glm::dot(gradient, n) * n;
     const double length = glm::length(gradient);
@@ -578,6 +610,7 @@ class PolycubeParameterizer {
   double mOrientation = 1;
   double mScale2 = 1;
   double mEpsilon = 0;  ///< the untangling regularization, 0 when off
+  bool mUntangleEnergy = false;  ///< untangling's last phase: Garanzha et al.'s energy
   ParameterizationOptions mOptions;
 };
 
