@@ -171,6 +171,21 @@ TEST(Distortion, CountsFlippedAndFlatTrianglesAndLeavesThemOutOfTheMeans) {
   EXPECT_EQ(d.angle, 0.0);
 }
 
+TEST(Distortion, CountsATriangleBelowItsFlatShareAsFlatThoughItsAreaIsPositive) {
+  const Polycube cube(std::vector<Vec3i>{{0, 0, 0}});
+  const PolycubeSurface surface(cube);
+  const TriangleMesh mesh = refinedSurface(cube);
+  std::vector<Vec3d> texture(mesh.positions.begin(), mesh.positions.end());
+  ASSERT_EQ(distortionOf(mesh, texture, surface).flipped, 0u);
+  // One corner moved almost onto the next: the triangle keeps its orientation and 1e-11 of its
+  // area. Its area distortion alone would be about 5e10, so it is flat, not a term of the means.
+  const Vec3u t = mesh.triangles[0];
+  texture[t[0]] = texture[t[1]] + 1e-11 * (texture[t[0]] - texture[t[1]]);
+  const Distortion d = distortionOf(mesh, texture, surface);
+  EXPECT_GE(d.flipped, 1u);
+  EXPECT_LT(d.area, 10.0);
+}
+
 TEST(PolycubeParameterization, KeepsAMeshThatIsThePolycubesOwnSurface) {
   const Polycube ell(std::vector<Vec3i>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
   const PolycubeSurface surface(ell);
@@ -219,6 +234,24 @@ TEST(PolycubeParameterization, MapsASphereOntoACubeWithoutFlipsAndLowersItsDisto
                 "%d sweeps\n", std::string(toString(energy)).c_str(), p.initial.area, p.final.area, p.initial.angle,
                 p.final.angle, p.initial.stretchEfficiency, p.final.stretchEfficiency, p.sweeps);
   }
+}
+
+TEST(PolycubeParameterization, SeparatesVerticesThatStartOnOnePoint) {
+  // The cube's own surface, refined, with one vertex started on its neighbour: their triangles
+  // are flat, and a step sized by the distance to the nearest neighbour would be zero for both.
+  const Polycube cube(std::vector<Vec3i>{{0, 0, 0}});
+  const PolycubeSurface surface(cube);
+  const TriangleMesh mesh = refinedSurface(cube);
+  const std::vector<Vec3d> lattice(mesh.positions.begin(), mesh.positions.end());
+  std::vector<Vec3d> texture = lattice;
+  const Vec3u t = mesh.triangles[mesh.triangles.size() / 2];
+  texture[t[0]] = texture[t[1]];
+  PolycubeParameterizer parameterizer(mesh.triangles, lattice, surface, texture);
+  ASSERT_GT(parameterizer.distortion().flipped, 0u);
+  parameterizer.optimize({});
+  EXPECT_EQ(parameterizer.distortion().flipped, 0u);
+  EXPECT_GT(glm::length(parameterizer.texture()[t[0]] - parameterizer.texture()[t[1]]), 0.01);
+  EXPECT_LT(parameterizer.distortion().area, 1.01);
 }
 
 TEST(PolycubeParameterization, DoesNotDependOnTheThreadCount) {
