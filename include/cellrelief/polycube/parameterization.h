@@ -390,7 +390,7 @@ class PolycubeParameterizer {
             survey();
           }
           const Survey after = survey();
-          const double sigma = std::max(1 - after.energy / energy, 0.1);
+          const double sigma = energy > 0 ? std::max(1 - after.energy / energy, 0.1) : 0.1;
           const double dMin = after.smallestArea;
           const double mu = (1 - sigma) * 0.5 * (dMin + std::sqrt(mEpsilon * mEpsilon + dMin * dMin));
           mEpsilon = dMin < mu ? std::max(2 * std::sqrt(mu * (mu - dMin)), 1e-6) : 1e-6;
@@ -518,7 +518,8 @@ class PolycubeParameterizer {
   /// the triangles whose energy is finite. Per triangle, with X its texture area (signed), F the
   /// squared Frobenius norm of its Jacobian J = sum_k u_k g_k^T (g_k: the gradients of its
   /// barycentric coordinates on the mesh triangle), S the area scale and d = X / (A S) (or its
-  /// regularization): E = A (F / (S d)) (d + 1/d)^theta, dF/du_k = 2 J g_k and
+  /// regularization): E = A (F / (S d)) (d + 1/d)^theta, or in untangling's last phase
+  /// A (F / (S d) + (D^2 + 1) / d) with D the unregularized d; dF/du_k = 2 J g_k and
   /// dX/du_k = +-(1/2) c^ x (u_{k+2} - u_{k+1}).
   Vec3d ringGradient(std::size_t v) const {
     Vec3d gradient(0.0);
