@@ -38,8 +38,8 @@ struct PolycubeOptions {
   /// unknown (non-manifold, or in pieces) takes the first closed manifold polycube.
   bool matchGenus = true;
   /// Step 4: toggle cubes to remove the vertices of case 6b, whose P stretches the most. Off by
-  /// default: the toggled cubes cost more than the stretch (fertility's map kept 19 flipped
-  /// triangles on the polycube without them, 2 on the one with its 12 case-6b vertices).
+  /// default: the toggled cubes cost more than the stretch (fertility's map keeps 16 flipped
+  /// triangles on the polycube without them, 1 on the one with its 12 case-6b vertices).
   bool removeCase6b = false;
 };
 
