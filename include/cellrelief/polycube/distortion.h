@@ -122,7 +122,7 @@ Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<co
     return d;
   }
   const double scale2 = textureArea / meshArea;  // texture area per unit of mesh area
-  meshArea = 0;
+  double keptArea = 0;  // of the triangles neither flipped nor flat: the means' weight
   double area = 0, angle = 0, stretch2 = 0;
   for (std::size_t i = 0; i < triangles.size(); ++i) {
     if (frames[i].degenerate()) continue;
@@ -130,8 +130,8 @@ Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<co
       ++d.flipped;
       continue;
     }
-    meshArea += frames[i].area;
     const double m = frames[i].area;
+    keptArea += m;
     const double s1s2 = stretch[i].signedArea / (m * scale2);   // after scaling to equal areas
     const double sum2 = stretch[i].frobenius2 / scale2;          // s1^2 + s2^2, scaled likewise
     area += m * 0.5 * (s1s2 + 1 / s1s2);
@@ -139,9 +139,9 @@ Distortion measureDistortion(std::span<const TriangleFrame> frames, std::span<co
     // The inverse map's singular values are 1/s1, 1/s2: (1/s1^2 + 1/s2^2) / 2 over this area.
     stretch2 += m * 0.5 * sum2 / (s1s2 * s1s2);
   }
-  d.area = area / meshArea;
-  d.angle = angle / meshArea;
-  d.stretchEfficiency = meshArea / stretch2;
+  d.area = area / keptArea;
+  d.angle = angle / keptArea;
+  d.stretchEfficiency = keptArea / stretch2;
   return d;
 }
 

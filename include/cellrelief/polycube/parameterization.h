@@ -290,7 +290,7 @@ class PolycubeParameterizer {
   /// area, which grows only as 1 / s1 s2 where extended MIPS grows as its fourth power.
   double triangleEnergy(const TriangleFrame& frame, const TriangleStretch& s) const {
     const double d = s.signedArea / (frame.area * mScale2);
-    const double s1s2 = mEpsilon > 0 ? 0.5 * (d + std::sqrt(mEpsilon * mEpsilon + d * d)) : d;
+    const double s1s2 = mEpsilon > 0 ? regularized(d) : d;
     if (!(s1s2 > kFlatShare)) return std::numeric_limits<double>::infinity();
     const double angle = s.frobenius2 / mScale2 / s1s2;  // s1/s2 + s2/s1
     if (mUntangleEnergy) return frame.area * (angle + (d * d + 1) / s1s2);
@@ -375,31 +375,23 @@ class PolycubeParameterizer {
       mNormals = bestNormals;
       mEpsilon = phase == 1 ? 0.0 : 1.0;
       mUntangleEnergy = phase == 3;
-      double energy = survey().energy;  // also the area scale of the restored positions
+      Survey now = survey();  // also the area scale of the restored positions
       for (int sinceBest = 0; best > 0 && sweep < limit && sinceBest < 20;) {
         if (phase == 1) {
           meanValueSweep();
           ++sweep;
+          now = survey();
         } else if (phase == 2) {
           energySweep();
           ++sweep;
           mEpsilon = std::max(1e-3, 0.9 * mEpsilon);
+          now = survey();
         } else {
-          for (int k = 0; k < 3; ++k, ++sweep) {
-            energySweep();
-            survey();
-          }
-          const Survey after = survey();
-          const double sigma = energy > 0 ? std::max(1 - after.energy / energy, 0.1) : 0.1;
-          const double dMin = after.smallestArea;
-          const double mu = (1 - sigma) * 0.5 * (dMin + std::sqrt(mEpsilon * mEpsilon + dMin * dMin));
-          mEpsilon = dMin < mu ? std::max(2 * std::sqrt(mu * (mu - dMin)), 1e-6) : 1e-6;
-          energy = survey().energy;  // at the new eps
+          now = adaptiveEpsilonStep(now.energy, sweep);
         }
-        const std::size_t flipped = survey().flipped;
         if (options.progress) options.progress(sweep, distortion());
-        if (flipped < best) {
-          best = flipped;
+        if (now.flipped < best) {
+          best = now.flipped;
           bestTexture = mTexture;
           bestNormals = mNormals;
           sinceBest = 0;
@@ -415,6 +407,26 @@ class PolycubeParameterizer {
     mNormals = std::move(bestNormals);
     return sweep;
   }
+
+  /// Untangling's phase 3, one step: three sweeps at the current eps, then the next eps by
+  /// Garanzha et al.'s rule (see untangle) from the energy before them, `energyBefore`, and
+  /// after. Returns the survey at the new eps (its energy is the next step's energyBefore).
+  Survey adaptiveEpsilonStep(double energyBefore, int& sweep) {
+    Survey after;
+    for (int k = 0; k < 3; ++k, ++sweep) {
+      energySweep();
+      after = survey();  // the area scale the next sweep compares at
+    }
+    const double sigma = energyBefore > 0 ? std::max(1 - after.energy / energyBefore, 0.1) : 0.1;
+    const double dMin = after.smallestArea;
+    const double mu = (1 - sigma) * regularized(dMin);
+    mEpsilon = dMin < mu ? std::max(2 * std::sqrt(mu * (mu - dMin)), 1e-6) : 1e-6;
+    return survey();
+  }
+
+  /// chi(d, eps) = (d + sqrt(eps^2 + d^2)) / 2 at the current eps: positive for every d where
+  /// eps > 0, close to d where d >> eps.
+  double regularized(double d) const { return 0.5 * (d + std::sqrt(mEpsilon * mEpsilon + d * d)); }
 
   /// The mean-value average of v's neighbours' texture positions, taken onto the surface.
   std::optional<Vec3d> meanValueTarget(std::size_t v) const {
