@@ -14,6 +14,8 @@
 /// view (grey: both hit; red: only ours; blue: only Embree).
 ///
 ///   bench_silhouettes [--data DIR] [--out out/bench] [--quick] [--threads 2] [--size 512] [--skip all]
+///                     [--grid N] [--texels T] [--mesh igea ...]
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -160,7 +162,12 @@ int run(int argc, char** argv) {
   options.threads = 2;
   int size = 512;
   std::string skip = "all";
+  relief::ConvertOptions convertOptions;
   options.addTo(app);
+  app.add_option("--grid", convertOptions.gridSize, "N (0: each mesh's automatic choice)")->capture_default_str();
+  app.add_option("--texels", convertOptions.texels, "T (0: the default for N)")->capture_default_str();
+  std::vector<std::string> meshes;
+  app.add_option("--mesh", meshes, "Only these meshes (bunny, armadillo, fertility, igea; default: all)");
   app.add_option("--size", size, "Primary rays: size x size pixels per view")->capture_default_str();
   app.add_option("--skip", skip, "Empty-space skipping: all, flat (parallel and planar cells only) or off")
       ->check(CLI::IsMember({"all", "flat", "off"}))
@@ -182,14 +189,16 @@ int run(int argc, char** argv) {
               "hit from the mesh, only Embree = depth of the ray inside the mesh\n", size, size, skip.c_str());
   std::size_t total = 0, totalRays = 0;
   for (const auto& [name, file] : cases) {
+    if (!meshes.empty() && std::find(meshes.begin(), meshes.end(), name) == meshes.end()) continue;
     TriangleMesh mesh;
+    relief::ReliefModel model;
     try {
       mesh = io::readMesh(options.data + "/" + file);
+      model = relief::convert(mesh, convertOptions);
     } catch (const Error& e) {
-      std::fprintf(stderr, "bench_silhouettes: %s\n", e.what());
+      std::fprintf(stderr, "bench_silhouettes: %s: %s\n", name.c_str(), e.what());
       return 1;
     }
-    const relief::ReliefModel model = relief::convert(mesh);
     const trace::ReliefTracerf tracer(model, {.skipEmptySpace = skip != "off", .skipCentralCells = skip == "all"});
     const embree::EmbreeScene embree(mesh);
     const MeshBvh bvh(mesh);

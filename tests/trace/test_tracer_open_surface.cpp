@@ -121,7 +121,7 @@ TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
   ASSERT_GT(planar, 20);
   const double spacing = model.cellSizeWS / (model.texels - 1);
   const int wrong = raysThatMissTheSheet(sheet, model, 2 * spacing);
-  // The same model without the hits past the mid-plane (convert.h, kPastMidPlaneSamples): the
+  // The same model without the hits past the mid-plane (convert.h, kPastLineEndSamples): the
   // texels next to where the sheet crosses it read no surface.
   std::size_t removed = 0;
   for (const relief::CellRecord& r : model.cells) {

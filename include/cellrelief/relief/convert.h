@@ -140,21 +140,35 @@ inline void sampleSignals(const TriangleMesh& mesh, const Signals& signals, cons
   }
 }
 
-/// How far a planar projection's lines look past their end (the mid-plane), in sample spacings
-/// of depth. A sheet that crosses the mid-plane splits between the two faces; the sample whose
-/// line just misses it on its side would be empty, and the bilinear texel between it and a filled
-/// neighbour would read no surface: a gap one texel wide along the mid-plane (laurana's chest at
-/// N = 32 showed it against Embree). With the hit past the end stored, that texel interpolates a
-/// distance that crosses the mid-plane where the sheet does. The field of such a line is
-/// negative (before the surface) over its whole length, as an empty line's is outside, so the
-/// side each line reads is unchanged. Central and axial lines end at a point or an axis, and
-/// their continuation leads into the opposite face's region, not the neighbouring one: they
-/// stop at their end.
-inline constexpr double kPastMidPlaneSamples = 2.0;
+/// How far planar and parallel projection lines look past their end, in sample spacings of
+/// depth. A line that just misses the surface before its end would be empty, and the bilinear
+/// texel between it and a filled neighbour would read no surface: a gap up to a texel wide where
+/// the surface leaves the line's reach. With the hit past the end stored, that texel interpolates
+/// a distance that reaches the end where the surface does. The field of such a line is negative
+/// (before the surface) over its whole length, as an empty line's is outside, so the side each
+/// line reads is unchanged.
+/// - Planar lines end at the mid-plane: a sheet that crosses it splits between the two faces
+///   (pinholes in a line across laurana's chest at N = 32, against Embree).
+/// - Parallel lines end at the opposite face: a surface that leaves the cell through it, into a
+///   grey neighbour whose own projection does not see that piece, left pinholes along the face
+///   (the bunny's flanks and base at N = 32: 151 -> 59 disagreements per million rays).
+/// Central and axial lines end at a point or an axis, and their continuation leads into the
+/// opposite face's region, not the neighbouring one: they stop at their end.
+inline constexpr double kPastLineEndSamples = 2.0;
+
+/// How far past its end (t = 1) a projection line is searched: kPastLineEndSamples in units of
+/// the line's length (a planar line is half a cell long, a parallel one a whole cell).
+inline double pastLineEnd(projection::ProjectionType type, int T) {
+  switch (type) {
+    case projection::ProjectionType::Planar: return 2 * kPastLineEndSamples / (T - 1);
+    case projection::ProjectionType::Parallel: return kPastLineEndSamples / (T - 1);
+    default: return 0.0;
+  }
+}
 
 /// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
-/// and keeps the nearest hit (for planar projections, one past the mid-plane as well:
-/// kPastMidPlaneSamples); counts the lines that meet the surface again past it.
+/// and keeps the nearest hit (for planar and parallel projections, one past the line's end as
+/// well: kPastLineEndSamples); counts the lines that meet the surface again past it.
 inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& surface, const ConvertOptions& options,
                         const Signals& signals, const Vec3d& cellMin, double h, int T, CellSamples& out) {
   const int faces = std::popcount(unsigned(out.proj.domainFaces()));
@@ -163,9 +177,7 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
   out.color.assign(signals.colors ? out.distance.size() : 0, Color8(0));
   out.present = 0;
   out.linesCrossedTwice = 0;
-  // A planar line is half a cell long: kPastMidPlaneSamples / (T - 1) cells is this much of it.
-  const double pastEnd =
-      out.proj.type == projection::ProjectionType::Planar ? 2 * kPastMidPlaneSamples / (T - 1) : 0.0;
+  const double pastEnd = pastLineEnd(out.proj.type, T);
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
     if (!(out.proj.domainFaces() & (1u << f))) continue;
@@ -191,7 +203,7 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
     if (anyWithinLine) {
       out.present |= std::uint8_t(1u << f);
     } else {
-      // Only hits past the mid-plane: the face reads no surface of its own (as if empty).
+      // Only hits past the line's end: the face reads no surface of its own (as if empty).
       std::fill_n(out.distance.begin() + std::ptrdiff_t(first), std::size_t(T) * T,
                   std::numeric_limits<float>::quiet_NaN());
     }
@@ -218,10 +230,13 @@ inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex
   const CentreOfProjection first =
       options.centre == CentreOfProjection::FewestCrossings ? CentreOfProjection::CellCentre : options.centre;
   out.proj = projection::chooseProjection<double>(cell.configuration, first, centroid);
-  // Every projection line lies in the cell: only the triangles that meet it can be hit. Not
+  // Every projection line lies in the cell, but for the stretch a parallel one searches past
+  // the opposite face: only the triangles that meet that box can be hit. Not
   // CellComplex::cellTriangles: the complex found those on snapped positions, which may miss a
   // triangle that touches the cell.
-  const TrianglesInBox<double> surface(query.bvh, complex.cellBoxWS(cell.ijk));
+  const Aabbd box = complex.cellBoxWS(cell.ijk);
+  const Vec3d reach(h * pastLineEnd(out.proj.type, T));
+  const TrianglesInBox<double> surface(query.bvh, Aabbd(box.min - reach, box.max + reach));
   sampleFaces(mesh, surface, options, signals, cellMin, h, T, out);
   if (options.centre == CentreOfProjection::FewestCrossings && out.linesCrossedTwice > 0) {
     const auto better = fewestCrossingsProjection(cell.configuration, surface, cellMin, h);

@@ -148,7 +148,7 @@ INSTANTIATE_TEST_SUITE_P(
         MeshCase{"spot", "meshes/small/spot__common-3d-test-models.obj", 2.5e-4, 0.01, 0.1, 0.5, 2},
         MeshCase{"igea", "meshes/large/igea__common-3d-test-models.ply", 9e-4, 0.05, 0.25, 6, 2},
         // A thin shell with white space on both sides: planar cells' sheets cross the mid-plane
-        // (convert.h, kPastMidPlaneSamples; 2.6e-3 of the rays disagreed, 51 pinholes, before).
+        // (convert.h, kPastLineEndSamples; 2.6e-3 of the rays disagreed, 51 pinholes, before).
         MeshCase{"laurana", "meshes/medium/laurana__cinolib.obj", 3.5e-3, 0.01, 0.3, 1, 50},
         MeshCase{"camelhead", "meshes/robustness/camelhead__libigl-tutorial-data.off", 2e-3, 0.02, 0.6, 1, 45},
         // The rim band sets N = 4 (grid_size.h); at N = 1 7.6e-3 of the rays disagreed, 195 away
