@@ -166,7 +166,7 @@ Command addConvertCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "The model file to write (.crm)")->required();
   cmd->add_option("--grid", o->grid, "Cells per side N, or 'auto'")->capture_default_str();
   cmd->add_option("--texels", o->texels,
-                  "Samples per face side T (2^k + 1 keeps levels of detail); 0: clamp(512 / N, 8, 64) + 1")
+                  "Samples per face side T (2^k + 1 keeps levels of detail); 0: max(512 / N, 8) + 1")
       ->check(CLI::Range(0, 1025))
       ->capture_default_str();
   cmd->add_option("--bits", o->bits, "Distance quantization: 16 or 8")

@@ -74,12 +74,13 @@ TEST(RimBand, AnOpenMeshRefinesUntilTheBandAlongItsRimIsSmall) {
   EXPECT_GT(rim, 2 * 3.14159);
   EXPECT_LT(rim, 1.3 * 2 * 3.14159);
   EXPECT_EQ(boundaryLength(makeIcosphere(4)), 0.0);
-  const GridSizeChoice choice = chooseGridSize(open, {.threshold = 0.01, .maxGridSize = 64});
+  // With T fixed at 65, each doubling of N halves the sample spacing.
+  const GridSizeChoice choice = chooseGridSize(open, {.threshold = 0.01, .maxGridSize = 64, .texels = 65});
   ASSERT_GE(choice.trials.size(), 2u);
   EXPECT_LT(choice.trials.front().occlusionRatio, 0.01);
   // At N = 1 the cube's side (2) holds 64 sample spacings: a band 2 spacings wide along the rim.
   EXPECT_NEAR(choice.trials.front().rimBandRatio, rim * 2 * (2.0 / 64) / area, 1e-6);  // (float bounds)
-  for (std::size_t i = 1; i < choice.trials.size(); ++i)  // T = 65 up to N = 8: the band halves
+  for (std::size_t i = 1; i < choice.trials.size(); ++i)  // the band halves
     EXPECT_NEAR(choice.trials[i].rimBandRatio, choice.trials[i - 1].rimBandRatio / 2, 1e-9);
   EXPECT_TRUE(choice.metThreshold);
   EXPECT_LT(choice.trials.back().rimBandRatio, 0.01);
@@ -90,7 +91,8 @@ TEST(RimBand, AnOpenMeshRefinesUntilTheBandAlongItsRimIsSmall) {
 
 TEST(RimBand, TheSearchStopsWhereAFinerGridWouldNotSampleFiner) {
   // Disjoint small triangles in one plane: all boundary, no occlusion. The band stays at its cap;
-  // past N = 8 the default T halves as N doubles, so the sampling is no finer and the search stops.
+  // the default T keeps 512 sample spacings across the cube for every N up to 64, so no doubling
+  // samples finer and the search stops at N = 1.
   TriangleMesh confetti;
   for (int j = 0; j < 20; ++j)
     for (int i = 0; i < 20; ++i) {
@@ -102,7 +104,8 @@ TEST(RimBand, TheSearchStopsWhereAFinerGridWouldNotSampleFiner) {
       confetti.triangles.push_back({base, base + 1, base + 2});
     }
   const GridSizeChoice byDefault = chooseGridSize(confetti, {.threshold = 0.01, .maxGridSize = 64});
-  EXPECT_EQ(byDefault.gridSize, 8);
+  EXPECT_EQ(byDefault.gridSize, 1);
+  EXPECT_EQ(byDefault.trials.size(), 1u);
   EXPECT_FALSE(byDefault.metThreshold);
   EXPECT_GT(byDefault.trials.back().rimBandRatio, 0.01);
   // With T fixed, every doubling samples finer: the search goes on to N_max.

@@ -28,7 +28,7 @@ TEST(Conversion, SphereDistancesAreExactPerSample) {
     sagitta = std::max(sagitta, 1.0 - std::abs(glm::dot(a, glm::normalize(glm::cross(b - a, c - a)))));
   }
   ConvertReport report;
-  const ReliefModel model = convert(sphere, {.gridSize = 8, .texels = 17}, &report);
+  const ReliefModel model = convert(sphere, {.gridSize = 8, .texels = 17, .centreSamples = false}, &report);
   EXPECT_EQ(model.gridSize, 8);
   EXPECT_GT(report.filledSamples, 0u);
   // The per-face method: its vertices are the samples themselves.
@@ -42,6 +42,67 @@ TEST(Conversion, SphereDistancesAreExactPerSample) {
   EXPECT_EQ(model.normalFormat, NormalFormat::None);
   EXPECT_EQ(model.colorFormat, ColorFormat::None);
   EXPECT_EQ(model.byteSize(), model.cells.size() * 24 + std::size_t(model.layerCount()) * 17 * 17 * 2);
+}
+
+TEST(Conversion, CentredSamplesCentreTheInterpolationErrorOnTheSurface) {
+  // One cell, coarse samples: between samples the per-face reconstruction's triangles (and the
+  // tracer's bilinear reading) are chords of the sphere, inside it unless the samples move out by
+  // half the chords' depth (convert.h, centreInterpolationError).
+  TriangleMesh sphere = makeIcosphere(6);
+  sphere.normals.clear();
+  for (int texels : {9, 17}) {
+    struct Error {
+      double meanSigned = 0, meanAbs = 0, worst = 0;  ///< |p| - 1 over the rebuilt surface, in spacings
+    };
+    Error e[2];
+    for (bool centre : {false, true}) {
+      const ReliefModel model = convert(sphere, {.gridSize = 1, .texels = texels, .centreSamples = centre});
+      const TriangleMesh rebuilt = reconstruct(model, {0, ReconstructionMethod::PerFace});
+      const double spacing = model.cellSizeWS / (texels - 1);
+      const std::vector<Vec3d> points = metrics::sampleSurface(rebuilt, 40000);
+      Error& r = e[centre];
+      for (const Vec3d& p : points) {
+        const double d = (glm::length(p) - 1.0) / spacing;
+        r.meanSigned += d, r.meanAbs += std::abs(d), r.worst = std::max(r.worst, std::abs(d));
+      }
+      r.meanSigned /= double(points.size()), r.meanAbs /= double(points.size());
+    }
+    std::printf("T = %d, in sample spacings: exact samples mean %.4f, mean |e| %.4f, worst %.4f; centred "
+                "%.4f, %.4f, %.4f\n", texels, e[0].meanSigned, e[0].meanAbs, e[0].worst, e[1].meanSigned,
+                e[1].meanAbs, e[1].worst);
+    // Measured: T = 9: -0.025, 0.025, 0.059 -> -0.005, 0.009, 0.045; T = 17: -0.013, 0.013,
+    // 0.031 -> -0.002, 0.004, 0.023.
+    EXPECT_LT(e[0].meanSigned, -0.9 * e[0].meanAbs);  // exact samples: chords, inside the sphere
+    EXPECT_LT(std::abs(e[1].meanSigned), 0.3 * std::abs(e[0].meanSigned));
+    EXPECT_LT(e[1].meanAbs, 0.5 * e[0].meanAbs);
+    EXPECT_LT(e[1].worst, e[0].worst);
+  }
+}
+
+TEST(Conversion, CentringMovesSamplesByTheirCurvatureOnlyAlongFilledSmoothAxes) {
+  // A parabola along a (second difference 2 / 64 per sample), constant along b; T = 9.
+  constexpr int T = 9;
+  const double secondDifference = 2.0 / 64;
+  std::vector<float> d(T * T);
+  for (int b = 0; b < T; ++b)
+    for (int a = 0; a < T; ++a) d[b * T + a] = float(0.3 + (a - 4) * (a - 4) / 64.0);
+  d[6 * T + 2] = std::numeric_limits<float>::quiet_NaN();  // an empty line in row b = 6
+  for (int a = 6; a < T; ++a) d[3 * T + a] += 0.5f;         // a depth jump in row b = 3
+  std::vector<float> moved = d;
+  detail::centreInterpolationError(moved.data(), T);
+  auto shift = [&](int a, int b) { return double(moved[b * T + a]) - double(d[b * T + a]); };
+  const double expected = -detail::kInterpolationCentring * secondDifference;
+  EXPECT_NEAR(shift(4, 4), expected, 1e-7);  // inside the face
+  EXPECT_NEAR(shift(4, 0), expected, 1e-7);  // on the edge b = 0, which runs along a
+  EXPECT_EQ(shift(0, 4), 0.0);               // on the edge a = 0: constant along it
+  EXPECT_EQ(shift(0, 0), 0.0);               // a corner has no neighbour on either axis
+  EXPECT_TRUE(std::isnan(moved[6 * T + 2]));
+  EXPECT_EQ(shift(1, 6), 0.0);  // next to the empty line
+  EXPECT_EQ(shift(3, 6), 0.0);
+  EXPECT_NEAR(shift(4, 6), expected, 1e-7);
+  EXPECT_EQ(shift(5, 3), 0.0);  // on either side of the jump: not a curvature
+  EXPECT_EQ(shift(6, 3), 0.0);
+  EXPECT_NEAR(shift(7, 3), expected, 1e-7);  // past it, a parabola again
 }
 
 TEST(Conversion, SignalsAreSampledWhenPresent) {

@@ -8,11 +8,11 @@
 
 #include <cellrelief/core/procedural.h>
 #include <cellrelief/io/mesh_io.h>
-#include <cellrelief/projection/choice.h>
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/render/camera.h>
 #include <cellrelief/trace/relief_tracer.h>
 
+#include "past_line_end.h"
 #include "test_support.h"
 
 namespace cellrelief::trace {
@@ -112,20 +112,7 @@ TEST(ReliefTracer, ParallelLinesLookPastTheOppositeFace) {
   relief::ReliefModel model = relief::convert(sphere, {.gridSize = 8, .texels = 17});
   const SphereStats with = traceSphere(ReliefTracerd(model), model, 128);
   // The same model without the hits past the opposite face.
-  std::size_t removed = 0;
-  for (const relief::CellRecord& r : model.cells) {
-    if (r.projection<double>().type != projection::ProjectionType::Parallel) continue;
-    for (int f = 0; f < cells::kFaceCount; ++f) {
-      const int layer = r.layerOf(f);
-      if (layer < 0) continue;
-      for (int b = 0; b < model.texels; ++b)
-        for (int a = 0; a < model.texels; ++a)
-          if (model.distance(layer, a, b) > 1.0f) {
-            model.distances16.at(a, b, layer, 0) = std::uint16_t(model.distanceCodec.emptyCode());
-            ++removed;
-          }
-    }
-  }
+  const std::size_t removed = test::emptySamplesPastLineEnd(model, projection::ProjectionType::Parallel);
   const SphereStats without = traceSphere(ReliefTracerd(model), model, 128);
   const double spacing = model.cellSizeWS / (model.texels - 1);
   std::printf("%zu samples past the opposite face; hits farther than a quarter sample from the sphere: %d of "

@@ -16,6 +16,8 @@
 #include <cellrelief/relief/convert.h>
 #include <cellrelief/trace/relief_tracer.h>
 
+#include "past_line_end.h"
+
 namespace cellrelief::trace {
 namespace {
 
@@ -123,20 +125,7 @@ TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
   const int wrong = raysThatMissTheSheet(sheet, model, 2 * spacing);
   // The same model without the hits past the mid-plane (convert.h, kPastLineEndSamples): the
   // texels next to where the sheet crosses it read no surface.
-  std::size_t removed = 0;
-  for (const relief::CellRecord& r : model.cells) {
-    if (r.projection<double>().type != projection::ProjectionType::Planar) continue;
-    for (int f = 0; f < cells::kFaceCount; ++f) {
-      const int layer = r.layerOf(f);
-      if (layer < 0) continue;
-      for (int b = 0; b < model.texels; ++b)
-        for (int a = 0; a < model.texels; ++a)
-          if (model.distance(layer, a, b) > 0.5f) {
-            model.distances16.at(a, b, layer, 0) = std::uint16_t(model.distanceCodec.emptyCode());
-            ++removed;
-          }
-    }
-  }
+  const std::size_t removed = test::emptySamplesPastLineEnd(model, projection::ProjectionType::Planar);
   const int wrongWithout = raysThatMissTheSheet(sheet, model, 2 * spacing);
   std::printf("planar cells %d; rays missing the sheet: %d of 4000 (%d without the %zu samples past the "
               "mid-plane)\n", planar, wrong, wrongWithout, removed);

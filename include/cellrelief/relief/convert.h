@@ -31,9 +31,12 @@ namespace cellrelief::relief {
 struct ConvertOptions {
   int gridSize = 0;   ///< N; 0 chooses it from the occlusion ratio (grid_size.h)
   /// T: samples per face side (2^k + 1 keeps every mip level on the edges); 0 picks
-  /// T = clamp(512 / N, 8, 64) + 1, about the same sample spacing for every N.
+  /// T = max(512 / N, 8) + 1, the same sample spacing for every N up to 64 (defaultTexels).
   int texels = 0;
   int distanceBits = 16;
+  /// Moves each sample to centre the bilinear reading's error on the surface
+  /// (centreInterpolationError); false keeps every sample exact on its projection line.
+  bool centreSamples = true;
   /// Normal maps only when the mesh has normals (a mesh that lacks them shades from the distance
   /// gradient); set forceNormals to store normals computed from the geometry anyway.
   NormalFormat normals = NormalFormat::Octahedral16;
@@ -166,6 +169,42 @@ inline double pastLineEnd(projection::ProjectionType type, int T) {
   }
 }
 
+/// Where the distance curves along a face, the bilinear reading between samples lies on one side
+/// of the surface only: up to f'' s^2 / 8 at a texel's middle (f'' the second derivative of the
+/// distance along the face, s the sample spacing), exact at the samples. Moving every sample by
+/// minus a sixteenth of its second differences (kInterpolationCentring) centres that error on
+/// the surface, half as large at worst. Without it a convex part read inside the mesh along its
+/// whole silhouette (rays that graze it missed) and a concave one outside.
+inline constexpr double kInterpolationCentring = 1.0 / 16;
+/// A second difference larger than this many sample spacings is a crease or a depth jump (an
+/// occlusion boundary), where the reading is not a parabola's: such an axis is left as sampled.
+inline constexpr double kMaxCentredCurvature = 1.0;
+
+/// Centres the interpolation error of one face's T x T distances (cell units, NaN = empty):
+/// each sample moves by -kInterpolationCentring times its second differences along the face's
+/// two axes, each axis only where both neighbours are filled and the difference is a curvature
+/// (kMaxCentredCurvature). A sample on a face's edge has a neighbour along the edge only, so it
+/// moves by the same amount in every face and cell that samples that line.
+inline void centreInterpolationError(float* distance, int T) {
+  const std::vector<float> sampled(distance, distance + std::size_t(T) * T);
+  const double limit = kMaxCentredCurvature / (T - 1);
+  auto secondDifference = [&](int a, int b, int da, int db) -> double {
+    const int a0 = a - da, b0 = b - db, a1 = a + da, b1 = b + db;
+    if (a0 < 0 || b0 < 0 || a1 >= T || b1 >= T) return 0;
+    const float before = sampled[std::size_t(b0) * T + a0], after = sampled[std::size_t(b1) * T + a1];
+    if (std::isnan(before) || std::isnan(after)) return 0;
+    const double d2 = double(before) - 2.0 * sampled[std::size_t(b) * T + a] + double(after);
+    return std::abs(d2) <= limit ? d2 : 0.0;
+  };
+  for (int b = 0; b < T; ++b)
+    for (int a = 0; a < T; ++a) {
+      const std::size_t k = std::size_t(b) * T + a;
+      if (std::isnan(sampled[k])) continue;
+      const double moved = sampled[k] - kInterpolationCentring * (secondDifference(a, b, 1, 0) + secondDifference(a, b, 0, 1));
+      distance[k] = float(std::max(0.0, moved));
+    }
+}
+
 /// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
 /// and keeps the nearest hit (for planar and parallel projections, one past the line's end as
 /// well: kPastLineEndSamples); counts the lines that meet the surface again past it.
@@ -201,6 +240,7 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
                       signals.colors ? &out.color[k] : nullptr);
       }
     if (anyWithinLine) {
+      if (options.centreSamples) centreInterpolationError(out.distance.data() + first, T);
       out.present |= std::uint8_t(1u << f);
     } else {
       // Only hits past the line's end: the face reads no surface of its own (as if empty).

@@ -121,8 +121,11 @@ inline OcclusionEstimate estimateOcclusion(const TriangleMesh& mesh,
   return total;
 }
 
-/// The default T for grid size N: about 512 samples across the bounding cube, 9 to 65 per face.
-inline int defaultTexels(int n) { return std::clamp(512 / std::max(1, n), 8, 64) + 1; }
+/// The default T for grid size N: 512 sample spacings across the bounding cube (T = 512 / N + 1),
+/// at least 9 samples per face side. Coarse grids used to stop at T = 65, which sampled a mesh
+/// with little occlusion 8 times coarser than the rest (Igea gets N = 1: 505 disagreements per
+/// million rays against Embree at T = 65, 25 at T = 513). A compact model asks for a smaller T.
+inline int defaultTexels(int n) { return std::max(512 / std::max(1, n), 8) + 1; }
 
 struct GridSizeOptions {
   double threshold = 0.01;  ///< stop when the occlusion ratio (and rim band ratio) falls below this

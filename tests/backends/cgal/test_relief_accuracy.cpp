@@ -57,20 +57,24 @@ TEST_P(ReliefAccuracy, WithinMeasuredBounds) {
 INSTANTIATE_TEST_SUITE_P(
     ClosedMeshes, ReliefAccuracy,
     ::testing::Values(
+        // N = 1 meshes (cube, bumpy, egea, bumpy-cube, igea) have T = 513 since 2026-12-07 (65
+        // before): RMS fell (igea 0.033% -> 0.017%, egea 0.032% -> 0.017%), but the mesh-to-rebuilt
+        // Hausdorff rose (igea 0.58% -> 1.06%): the per-face method joins no samples across a jump
+        // of over 4 spacings, and at T = 65 those chords had bridged the parts the centre cannot see.
         AccuracyCase{"meshes/small/cube__libigl-tutorial-data.obj", 2e-06, 2e-06},
         AccuracyCase{"meshes/small/TinyTorus__libigl-tests-data.obj", 0.0021, 0.046},
         AccuracyCase{"meshes/small/bob_small__geometry-central.ply", 0.00047, 0.017},
         AccuracyCase{"meshes/small/decimated-knight__libigl-tutorial-data.off", 0.00036, 0.0076},
-        AccuracyCase{"meshes/small/bumpy__libigl-tutorial-data.off", 0.00022, 0.0019},
+        AccuracyCase{"meshes/small/bumpy__libigl-tutorial-data.off", 0.00001, 0.0003},
         AccuracyCase{"meshes/small/3holes__cinolib.obj", 0.00041, 0.0145},
         AccuracyCase{"meshes/small/spot__common-3d-test-models.obj", 0.00058, 0.02},
         AccuracyCase{"meshes/small/fertility_9k__libigl-tutorial-data.off", 0.00032, 0.0084},
         AccuracyCase{"meshes/medium/fandisk__common-3d-test-models.obj", 0.00053, 0.0155},
-        AccuracyCase{"meshes/medium/egea__4AxisMilling.obj", 0.00051, 0.0095},
-        AccuracyCase{"meshes/medium/bumpy-cube__libigl-tutorial-data.obj", 0.0002, 0.004},
+        AccuracyCase{"meshes/medium/egea__4AxisMilling.obj", 0.0003, 0.016},
+        AccuracyCase{"meshes/medium/bumpy-cube__libigl-tutorial-data.obj", 0.000006, 0.00008},
         AccuracyCase{"meshes/medium/pensatore__4AxisMilling.obj", 0.00034, 0.0075},
         AccuracyCase{"meshes/medium/armadillo__libigl-tutorial-data.obj", 0.00025, 0.0047},
-        AccuracyCase{"meshes/large/igea__common-3d-test-models.ply", 0.00053, 0.0093}),
+        AccuracyCase{"meshes/large/igea__common-3d-test-models.ply", 0.0003, 0.016}),
     [](const auto& param) { return test::testNameOfPath(param.param.path); });
 
 }  // namespace
