@@ -200,8 +200,8 @@ inline void centreInterpolationError(float* distance, int T) {
     for (int a = 0; a < T; ++a) {
       const std::size_t k = std::size_t(b) * T + a;
       if (std::isnan(sampled[k])) continue;
-      const double moved = sampled[k] - kInterpolationCentring * (secondDifference(a, b, 1, 0) + secondDifference(a, b, 0, 1));
-      distance[k] = float(std::max(0.0, moved));
+      const double curvature = secondDifference(a, b, 1, 0) + secondDifference(a, b, 0, 1);
+      distance[k] = float(std::max(0.0, sampled[k] - kInterpolationCentring * curvature));
     }
 }
 
