@@ -51,16 +51,16 @@ TEST(Conversion, CentredSamplesCentreTheInterpolationErrorOnTheSurface) {
   TriangleMesh sphere = makeIcosphere(6);
   sphere.normals.clear();
   for (int texels : {9, 17}) {
-    struct Error {
+    struct Deviation {
       double meanSigned = 0, meanAbs = 0, worst = 0;  ///< |p| - 1 over the rebuilt surface, in spacings
     };
-    Error e[2];
+    Deviation e[2];
     for (bool centre : {false, true}) {
       const ReliefModel model = convert(sphere, {.gridSize = 1, .texels = texels, .centreSamples = centre});
       const TriangleMesh rebuilt = reconstruct(model, {0, ReconstructionMethod::PerFace});
       const double spacing = model.cellSizeWS / (texels - 1);
       const std::vector<Vec3d> points = metrics::sampleSurface(rebuilt, 40000);
-      Error& r = e[centre];
+      Deviation& r = e[centre];
       for (const Vec3d& p : points) {
         const double d = (glm::length(p) - 1.0) / spacing;
         r.meanSigned += d, r.meanAbs += std::abs(d), r.worst = std::max(r.worst, std::abs(d));
