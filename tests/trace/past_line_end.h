@@ -8,26 +8,30 @@
 #include <cstdint>
 
 #include <cellrelief/projection/choice.h>
+#include <cellrelief/projection/projections.h>
 #include <cellrelief/relief/relief_model.h>
 
 namespace cellrelief::test {
 
-/// Empties, in the cells of projection `type` (planar or parallel), every sample farther than
-/// the line's length (half a cell, or a cell); returns how many. 16-bit models only.
+/// Empties, in the cells of projection `type`, every sample whose distance exceeds its projection
+/// line's length (what CellProjection::lineEnd gives); returns how many. 16-bit models only.
 inline std::size_t emptySamplesPastLineEnd(relief::ReliefModel& model, projection::ProjectionType type) {
-  const float lineLength = type == projection::ProjectionType::Planar ? 0.5f : 1.0f;
   std::size_t emptied = 0;
   for (const relief::CellRecord& r : model.cells) {
-    if (r.projection<double>().type != type) continue;
+    const auto proj = r.projection<double>();
+    if (proj.type != type) continue;
     for (int f = 0; f < cells::kFaceCount; ++f) {
       const int layer = r.layerOf(f);
       if (layer < 0) continue;
       for (int b = 0; b < model.texels; ++b)
-        for (int a = 0; a < model.texels; ++a)
-          if (model.distance(layer, a, b) > lineLength) {
+        for (int a = 0; a < model.texels; ++a) {
+          const Vec2d uv(double(a) / (model.texels - 1), double(b) / (model.texels - 1));
+          const Vec3d onFace = projection::facePoint(f, uv);
+          if (model.distance(layer, a, b) > glm::length(proj.lineEnd(f, onFace) - onFace)) {
             model.distances16.at(a, b, layer, 0) = std::uint16_t(model.distanceCodec.emptyCode());
             ++emptied;
           }
+        }
     }
   }
   return emptied;

@@ -37,6 +37,7 @@ template <class Tracer>
 SphereStats traceSphere(const Tracer& tracer, const relief::ReliefModel& model, int size) {
   using T = typename Tracer::Scalar;
   const render::Camera camera = render::Camera::framing(Vec3d(0), 1.0, 30, 20);
+  const double quarterSample = 0.25 * model.cellSizeWS / (model.texels - 1);
   SphereStats s;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
@@ -60,7 +61,7 @@ SphereStats traceSphere(const Tracer& tracer, const relief::ReliefModel& model, 
       if (cosine >= 0.3) s.worst = std::max(s.worst, error);
       const double off = std::abs(glm::length(Vec3d(hit.position)) - 1.0);
       s.worstSurface = std::max(s.worstSurface, off);
-      s.farHits += off > 0.25 * model.cellSizeWS / (model.texels - 1);
+      s.farHits += off > quarterSample;
       s.mean += error;
       s.badNormals += glm::dot(Vec3d(hit.normal), glm::normalize(Vec3d(hit.position))) < 0.95;
     }
