@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -175,6 +176,10 @@ class PolycubeParameterizer {
       sweep = untangle(options, sweep);
       sweep = settle(options, sweep);
       if (survey().flipped == 0 || options.energy == PolycubeEnergy::MeanValue) break;
+    }
+    if (survey().flipped > 0) {
+      sweep = repairFolds(options, sweep);
+      sweep = settle(options, sweep);
     }
     return sweep;
   }
@@ -353,7 +358,7 @@ class PolycubeParameterizer {
   }
 
   /// Untangles the folds normal projection leaves at the polycube's concave creases and where
-  /// a feature is thinner than a cube, in three phases, each run until 20 sweeps have not
+  /// a feature is thinner than a cube. Three phases of sweeps, each run until 20 sweeps have not
   /// lowered the number of flipped triangles and each starting from the state with the fewest:
   /// 1. mean-value sweeps;
   /// 2. the chosen energy, regularized with eps shrinking by a tenth per sweep;
@@ -363,8 +368,10 @@ class PolycubeParameterizer {
   ///    It keeps eps near the worst fold's size, where the fixed schedule of phase 2 shrinks
   ///    it past folds that are not yet undone (the armadillo at N = 16: 10 flips left by phase
   ///    2 on its 3,000-vertex decimation, 1 by phase 3).
-  /// Phases 2 and 3 run only while flips are left. Returns the sweep count, continued from
-  /// `sweep`; phase 3 counts each of its sweeps.
+  /// Then, from the state with the fewest flips, 4. the flipped triangles' patches moved
+  ///    together (repairFolds), for the last few.
+  /// Phases 2 to 4 run only while flips are left. Returns the sweep count, continued from
+  /// `sweep`; phase 3 counts each of its sweeps, phase 4 each pass.
   int untangle(const ParameterizationOptions& options, int sweep) {
     const int limit = sweep + options.maxSweeps;
     std::size_t best = survey().flipped;
@@ -405,7 +412,132 @@ class PolycubeParameterizer {
     mInVertexOrder = false;
     mTexture = std::move(bestTexture);
     mNormals = std::move(bestNormals);
+    if (best > 0) sweep = repairFolds(options, sweep);
     return sweep;
+  }
+
+  /// Untangling's last phase, for the few folds the sweeps leave (at most kRepairableFlips):
+  /// each flipped triangle's corners and their neighbours move together, by a (1+1) evolution
+  /// strategy, until no triangle of theirs is flipped. A sweep moves one vertex at a time down
+  /// its own energy, and some folds only open when several move at once: on fertility's
+  /// polycube (N = 24) a triangle across the concave crease of a case-6b vertex stays flipped
+  /// through every sweep, and no single corner has a place where its triangles all face out.
+  /// Per patch: a trial moves each vertex with probability 1/2 by a normal step of radius r
+  /// (P puts it back on the surface) and is kept when it lowers (flipped triangles, sum over
+  /// the patch's triangles of area x max(0, 1/10 - D)), D the normalized texture area; r grows
+  /// by 3/2 after a kept trial and shrinks by 0.95 after a rejected one (the one-fifth rule's
+  /// balance), from half the patch's largest edge. The steps come from a hash of (triangle,
+  /// pass, trial), so the result depends on neither the thread count nor a library's random
+  /// distributions. Passes repeat while a patch improves, at most kRepairPasses. The energy is
+  /// not looked at; the sweeps after it restore it.
+  int repairFolds(const ParameterizationOptions& options, int sweep) {
+    for (int pass = 0; pass < kRepairPasses; ++pass) {
+      const std::vector<std::uint32_t> flipped = flippedTriangles();
+      if (flipped.empty() || flipped.size() > kRepairableFlips) break;
+      bool improved = false;
+      for (const std::uint32_t triangle : flipped)
+        improved = repairPatch(triangle, std::uint64_t(pass)) || improved;
+      ++sweep;
+      if (options.progress) options.progress(sweep, distortion());
+      if (!improved) break;
+    }
+    survey();  // the area scale of the positions the next sweeps start from
+    return sweep;
+  }
+
+  static constexpr std::size_t kRepairableFlips = 64;
+  static constexpr int kRepairPasses = 4;
+  static constexpr int kRepairTrials = 4096;
+  static constexpr double kRepairMargin = 0.1;  ///< D below which a triangle still counts against a patch
+
+  /// The flipped or flat triangles at the current positions (and the area scale, by survey).
+  std::vector<std::uint32_t> flippedTriangles() {
+    survey();
+    std::vector<std::uint32_t> flipped;
+    for (std::uint32_t i = 0; i < mTriangles.size(); ++i)
+      if (patchScore(std::span(&i, 1)).flipped > 0) flipped.push_back(i);
+    return flipped;
+  }
+
+  struct PatchScore {
+    std::size_t flipped = 0;
+    double shortfall = 0;  ///< sum of area x max(0, kRepairMargin - D)
+    bool operator<(const PatchScore& o) const {
+      return flipped != o.flipped ? flipped < o.flipped : shortfall < o.shortfall;
+    }
+  };
+
+  PatchScore patchScore(std::span<const std::uint32_t> triangles) const {
+    PatchScore score;
+    for (const std::uint32_t i : triangles) {
+      if (mFrames[i].degenerate()) continue;
+      const Vec3u& t = mTriangles[i];
+      const TriangleStretch s = triangleStretch(mFrames[i], mTexture[t[0]], mTexture[t[1]], mTexture[t[2]], outward(i));
+      if (flippedOrFlat(s.signedArea, mFrames[i].area, mScale2)) ++score.flipped;
+      const double d = s.signedArea / (mFrames[i].area * mScale2);
+      score.shortfall += mFrames[i].area * std::max(0.0, kRepairMargin - d);
+    }
+    return score;
+  }
+
+  /// One flipped triangle's patch (see repairFolds); whether its score fell.
+  bool repairPatch(std::uint32_t flippedTriangle, std::uint64_t pass) {
+    std::vector<std::uint32_t> movers, triangles;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t corner = mTriangles[flippedTriangle][k];
+      movers.push_back(corner);
+      for (std::size_t n = mNeighbourStart[corner]; n < mNeighbourStart[corner + 1]; ++n)
+        movers.push_back(mNeighbours[n].first);
+    }
+    std::sort(movers.begin(), movers.end());
+    movers.erase(std::unique(movers.begin(), movers.end()), movers.end());
+    std::erase_if(movers, [&](std::uint32_t v) { return mBoundary[v] != 0; });
+    double largestEdge = 0;
+    for (const std::uint32_t v : movers) {
+      for (std::size_t r = mRingStart[v]; r < mRingStart[v + 1]; ++r) triangles.push_back(mRing[r]);
+      for (std::size_t n = mNeighbourStart[v]; n < mNeighbourStart[v + 1]; ++n)
+        largestEdge = std::max(largestEdge, glm::length(mTexture[mNeighbours[n].first] - mTexture[v]));
+    }
+    std::sort(triangles.begin(), triangles.end());
+    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    const PatchScore start = patchScore(triangles);
+    if (movers.empty() || start.flipped == 0 || !(largestEdge > 0)) return false;
+    PatchScore best = start;
+    std::vector<Vec3d> kept(movers.size()), keptNormals(movers.size());
+    std::uint64_t state = (std::uint64_t(flippedTriangle) << 8) ^ (pass * 0xd1b54a32d192ed03ull);
+    double radius = 0.5 * largestEdge;
+    for (int trial = 0; trial < kRepairTrials && best.flipped > 0 && radius > 1e-7 * largestEdge; ++trial) {
+      for (std::size_t m = 0; m < movers.size(); ++m) {
+        kept[m] = mTexture[movers[m]];
+        keptNormals[m] = mNormals[movers[m]];
+        if (unitInterval(state) < 0.5) continue;
+        const Vec3d step(normalDeviate(state), normalDeviate(state), normalDeviate(state));
+        if (const std::optional<Vec3d> p = mSurface.project(kept[m] + radius * step)) moveTo(movers[m], *p, mSurface.normal(*p));
+      }
+      if (const PatchScore score = patchScore(triangles); score < best) {
+        best = score;
+        radius *= 1.5;
+      } else {
+        for (std::size_t m = 0; m < movers.size(); ++m) moveTo(movers[m], kept[m], keptNormals[m]);
+        radius *= 0.95;
+      }
+    }
+    return best < start;
+  }
+
+  /// A standard normal deviate from two values of the sequence (Box-Muller).
+  static double normalDeviate(std::uint64_t& state) {
+    const double u = unitInterval(state), v = unitInterval(state);
+    return std::sqrt(-2 * std::log(u)) * std::cos(6.283185307179586 * v);
+  }
+
+  /// The next value of a splitmix64 sequence, in (0, 1).
+  static double unitInterval(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double(z >> 11) + 0.5) * 0x1.0p-53;
   }
 
   /// Untangling's phase 3, one step: three sweeps at the current eps, then the next eps by
