@@ -192,7 +192,7 @@ int run(int argc, char** argv) {
     const render::Scene scene = render::Scene::of(model);
     const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
     const render::Camera camera = render::Camera::framing(bounds.center(), 0.5 * bounds.diagonal(), 35, 20);
-    const double spacing = model->cellSizeWS / double(model->texels - 1);
+    const double spacing = model->sampleSpacingWS();
     std::printf("\n%s: %zu triangles -> N = %d, T = %d, %zu grey cells\n", name.c_str(), mesh.triangleCount(),
                 model->gridSize, model->texels, model->cells.size());
     std::printf("%-8s %10s %10s %8s %10s %8s %10s %9s %9s %12s  %s\n", "backend", "prim Mr/s", "vs cpu",

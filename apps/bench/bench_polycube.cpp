@@ -7,7 +7,8 @@
 /// (Praun & Hoppe, 1 is best), flipped triangles, seconds; the last column is the baseline's area
 /// distortion over ours (extended MIPS). Prints the table, writes CSV.
 ///
-///   bench_polycube [--data DIR] [--out out/bench] [--quick] [--threads N]
+///   bench_polycube [--data DIR] [--out out/bench] [--quick] [--threads N] [--mesh NAME ...]
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -54,6 +55,9 @@ int run(int argc, char** argv) {
   CLI::App app{"PolyCube-Maps distortion (the paper's Table 1) beside CGAL's LSCM and DCP", "bench_polycube"};
   bench::BenchOptions options;
   options.addTo(app);
+  std::vector<std::string> only;
+  app.add_option("--mesh", only,
+                 "Only these meshes (3holes, spot, laurana, bumpy-cube, bunny, fertility_9k, armadillo; default: all)");
   CLI11_PARSE(app, argc, argv);
   const ThreadLimit limit{std::size_t(options.threads)};
   const std::vector<std::pair<std::string, std::string>> meshes =
@@ -72,6 +76,7 @@ int run(int argc, char** argv) {
   std::printf("\n%-12s %9s %6s %-22s %9s %9s %9s %8s %9s %10s\n", "mesh", "triangles", "cubes", "method", "area",
               "angle", "stretch", "flipped", "time [s]", "area/ours");
   for (const auto& [name, relative] : meshes) {
+    if (!only.empty() && std::find(only.begin(), only.end(), name) == only.end()) continue;
     TriangleMesh mesh;
     polycube::PolycubeResult cubes;
     try {

@@ -202,7 +202,7 @@ int run(int argc, char** argv) {
     const trace::ReliefTracerf tracer(model, {.skipEmptySpace = skip != "off", .skipCentralCells = skip == "all"});
     const embree::EmbreeScene embree(mesh);
     const MeshBvh bvh(mesh);
-    const Setup setup{model, tracer, embree, bvh, model.cellSizeWS / (model.texels - 1)};
+    const Setup setup{model, tracer, embree, bvh, model.sampleSpacingWS()};
     const Aabbd bounds(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
     Tally tally;
     for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {

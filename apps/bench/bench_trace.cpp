@@ -344,7 +344,7 @@ int run(int argc, char** argv) {
       const Accuracy a = accuracy(primary.truth, t);
       const double s2 = traceSet(secondary.rays);
       const Accuracy a2 = accuracy(secondary.truth, t);
-      const double spacing = model->cellSizeWS / (model->texels - 1);
+      const double spacing = model->sampleSpacingWS();
       const std::size_t bytes = model->byteSize() + tracer.accelerationBytes();
       const double mr1 = primaryCount / s1 * 1e-6, mr2 = secondaryCount / s2 * 1e-6;
       const double steps = meanSteps(tracer, primary.rays);

@@ -86,7 +86,7 @@ int runCompareBackends(const CompareBackendsCli& o) {
   // diagonal for geometry textures and polycube meshes.
   const double spacing = scene.models.empty()
                              ? 1e-3 * scene.boundsWS().diagonal()
-                             : scene.models[0]->cellSizeWS / double(std::max(1, scene.models[0]->texels - 1));
+                             : scene.models[0]->sampleSpacingWS();
   const double rays = double(width) * double(height);
   std::printf("\n%-8s %9s %9s %9s %11s %10s %10s %9s %9s %9s  %s\n", "backend", "time s", "Mrays/s", "vs cpu",
               "scene", "mask", "depth med", "depth p95", "normal", "color", "device");

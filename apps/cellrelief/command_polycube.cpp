@@ -29,6 +29,7 @@ namespace {
 struct PolycubeCommandOptions {
   std::string mesh, output, grid = "auto", cubes, energy = "extended-mips", signal = "grid";
   int sweeps = 400;
+  int coarse = 3000;
   int texels = 16;
   bool removeCase6b = false;
 };
@@ -160,6 +161,7 @@ int runPolycube(const PolycubeCommandOptions& o) {
   polycube::ParameterizationOptions mapOptions;
   mapOptions.energy = *energy;
   mapOptions.maxSweeps = o.sweeps;
+  mapOptions.coarseVertices = std::size_t(o.coarse);
   mapOptions.progress = [](int sweep, const polycube::Distortion& d) {
     if (sweep % 50 == 0)
       std::printf("  sweep %4d   area %.4f, angle %.4f, stretch efficiency %.3f, %zu flipped\n", sweep, d.area, d.angle,
@@ -174,7 +176,8 @@ int runPolycube(const PolycubeCommandOptions& o) {
   std::printf("distortion    %-9s %8s %8s %10s %8s\n", "", "area", "angle", "stretch", "flipped");
   for (const auto& [name, d] : {std::pair{"start", map.initial}, std::pair{"optimized", map.final}})
     std::printf("              %-9s %8.4f %8.4f %10.3f %8zu\n", name, d.area, d.angle, d.stretchEfficiency, d.flipped);
-  polycube::requireUnfolded(map, mesh, o.mesh, "try another --grid, more --sweeps or a polycube of your own (--cubes)");
+  polycube::requireUnfolded(map, mesh, o.mesh,
+                            "try another --grid or --coarse, more --sweeps or a polycube of your own (--cubes)");
 
   const auto t2 = std::make_shared<const polycube::PolycubeTexture>(
       withPath(o.mesh, [&] {
@@ -239,6 +242,12 @@ Command addPolycubeCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--sweeps", o->sweeps, "Most optimization sweeps over the vertices")
       ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--coarse", o->coarse,
+                  "A mesh of more than twice this many vertices starts from the map of its decimation to this "
+                  "many (0: from the projection along the normals); a thin part the decimation cannot hold "
+                  "folds there and stays folded")
+      ->check(CLI::Range(0, 100000000))
       ->capture_default_str();
   cmd->add_option("--signal", o->signal,
                   "What T2 holds: grid (the paper's pattern), normals (the mesh's, which a renderer shades with), "

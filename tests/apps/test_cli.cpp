@@ -141,6 +141,10 @@ TEST(Cli, PolycubeWritesTheDomainAndRefusesBadPolycubes) {
   EXPECT_NE(badEnergy.status, 0);
   EXPECT_TRUE(test::hasWords(badEnergy.output, "tutte")) << badEnergy.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "tutte"));
+  const Result badCoarse = run("polycube " + mesh.string() + " --coarse -5 -o " + (dir / "coarse").string());
+  EXPECT_NE(badCoarse.status, 0);
+  EXPECT_TRUE(test::hasWords(badCoarse.output, "--coarse")) << badCoarse.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "coarse"));
   for (const auto& [signal, words] : {std::pair{"bumps", "not grid, normals"}, std::pair{"color", "no vertex colours"}}) {
     const Result badSignal =
         run("polycube " + mesh.string() + " --signal " + signal + " -o " + (dir / "signal").string());

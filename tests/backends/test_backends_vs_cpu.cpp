@@ -93,7 +93,7 @@ TEST_P(BackendsVsCpu, EveryChannelAgreesWithTheCpuReference) {
   if (!c.path.empty()) CELLRELIEF_REQUIRE_FILE(test::dataDir() / c.path);
   const auto model = convertCase(c);
   const Scene scene = Scene::of(model);
-  const double spacing = model->cellSizeWS / double(model->texels - 1);
+  const double spacing = model->sampleSpacingWS();
   RenderOptions options;
   options.width = options.height = 200;
   std::vector<Camera> cameras = {Camera::framing(scene.boundsWS().center(), 0.5 * scene.boundsWS().diagonal(), 35, 20),

@@ -37,7 +37,7 @@ template <class Tracer>
 SphereStats traceSphere(const Tracer& tracer, const relief::ReliefModel& model, int size) {
   using T = typename Tracer::Scalar;
   const render::Camera camera = render::Camera::framing(Vec3d(0), 1.0, 30, 20);
-  const double quarterSample = 0.25 * model.cellSizeWS / (model.texels - 1);
+  const double quarterSample = 0.25 * model.sampleSpacingWS();
   SphereStats s;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
@@ -92,7 +92,7 @@ TEST(ReliefTracer, SphereDepthMatchesTheAnalyticIntersection) {
       // spacing on average and one sample spacing (plus a quarter) at worst: where the surface
       // leaves a cell, the texel cells with an empty corner read as empty, and the crossing is
       // found at the rim or at the cell face instead. Float adds its rounding at a distance of 3.
-      const double spacing = model.cellSizeWS / (model.texels - 1);
+      const double spacing = model.sampleSpacingWS();
       EXPECT_LT(d.mean, 2e-4 + 0.1 * spacing) << "N = " << n << " skip " << skip;
       // In t, that distance grows as 1 / cosine of the angle to the normal (>= 0.3 here).
       EXPECT_LT(d.worst, 2e-4 + 1.25 * spacing / 0.3) << "N = " << n << " skip " << skip;
@@ -115,7 +115,7 @@ TEST(ReliefTracer, ParallelLinesLookPastTheOppositeFace) {
   // The same model without the hits past the opposite face.
   const std::size_t removed = test::emptySamplesPastLineEnd(model, projection::ProjectionType::Parallel);
   const SphereStats without = traceSphere(ReliefTracerd(model), model, 128);
-  const double spacing = model.cellSizeWS / (model.texels - 1);
+  const double spacing = model.sampleSpacingWS();
   std::printf("%zu samples past the opposite face; hits farther than a quarter sample from the sphere: %d of "
               "%d (%d of %d without them); worst %.2f samples (%.2f without)\n", removed, with.farHits, with.hits,
               without.farHits, without.hits, with.worstSurface / spacing, without.worstSurface / spacing);
@@ -223,7 +223,7 @@ TEST(ReliefTracer, CentralCellSkippingTakesFewerStepsAndFindsTheSameHits) {
     const ReliefTracerf sampled(model, {.skipCentralCells = false}), skipping(model);
     std::uint64_t sampledSteps = 0, skipSteps = 0;
     int both = 0, agree = 0, onlySampled = 0, onlySkipping = 0;
-    const double spacing = model.cellSizeWS / (model.texels - 1);
+    const double spacing = model.sampleSpacingWS();
     for (int y = 0; y < 96; ++y)
       for (int x = 0; x < 96; ++x) {
         const Rayd r = camera.primaryRay(x, y, 96, 96);

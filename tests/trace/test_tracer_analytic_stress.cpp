@@ -163,7 +163,7 @@ TEST_P(AnalyticStress, RandomRaysAgreeWithTheShape) {
   const ReliefTracerf tracer(model);
   const Aabbd bounds(model.originWS, model.originWS + Vec3d(model.cellSizeWS * model.gridSize));
   // The model's tolerance: a few sample spacings (and the tessellation's sagitta, far below it).
-  const double spacing = model.cellSizeWS / (model.texels - 1);
+  const double spacing = model.sampleSpacingWS();
   const double tolerance = 3 * spacing;
   const std::size_t rays = raysPerShape();
   std::atomic<std::size_t> nonFinite{0}, offSurface{0}, decided{0}, falseHits{0}, falseMisses{0}, hits{0};

@@ -73,7 +73,7 @@ TEST(OpenSurface, RaysThroughAHoleMeetTheInnerWallAndNoConeAroundTheRim) {
   // The rim (radius 0.8 at z = 0.6) crosses a ring of cells, not the whole grid.
   EXPECT_GT(open, 4u);
   EXPECT_LT(open, model.cells.size() / 3);
-  const double spacing = model.cellSizeWS / (model.texels - 1);
+  const double spacing = model.sampleSpacingWS();
   const Agreement marked = traceThroughTheHole(mesh, model, 2 * spacing);
   // The same model with the marks taken off: the side is read from empty lines at the rim too,
   // and carried across every cell face as in a closed model.
@@ -121,7 +121,7 @@ TEST(OpenSurface, HitsPastAPlanarMidPlaneCloseTheGapThere) {
   for (const relief::CellRecord& r : model.cells)
     planar += r.projection<double>().type == projection::ProjectionType::Planar;
   ASSERT_GT(planar, 20);
-  const double spacing = model.cellSizeWS / (model.texels - 1);
+  const double spacing = model.sampleSpacingWS();
   const int wrong = raysThatMissTheSheet(sheet, model, 2 * spacing);
   // The same model without the hits past the mid-plane (convert.h, kPastLineEndSamples): the
   // texels next to where the sheet crosses it read no surface.

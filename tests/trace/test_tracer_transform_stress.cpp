@@ -68,7 +68,7 @@ DepthAgreement traceAgainstMesh(const TriangleMesh& mesh, const relief::ReliefMo
     if (reference.valid() && hit.valid()) errors.push_back(std::abs(hit.t - reference.t) / diagonal);
   }
   DepthAgreement result;
-  result.spacingOverDiagonal = model.cellSizeWS / (model.texels - 1) / diagonal;
+  result.spacingOverDiagonal = model.sampleSpacingWS() / diagonal;
   result.bothHit = errors.size();
   result.agreeing = double(agree) / rays;
   if (errors.empty()) return result;

@@ -164,6 +164,8 @@ struct ReliefModel {
     return originWS + (Vec3d(ijk) + p) * cellSizeWS;
   }
   double diagonalWS() const { return std::sqrt(3.0) * cellSizeWS * gridSize; }
+  /// World distance between neighbouring samples of a face: the unit errors are measured in.
+  double sampleSpacingWS() const { return cellSizeWS / double(std::max(1, texels - 1)); }
   /// Whether the input was open (some cell holds a boundary edge, CellRecord::kOpenSurface). Its
   /// white space then reaches both sides of the surface through the holes, so a cell's reading of
   /// the side says nothing of its neighbour's, and the tracer carries no side across cell faces.

@@ -107,7 +107,7 @@ TEST_P(TraceVsEmbree, ReliefRaysAgreeWithEmbreeOnTheOriginalMesh) {
   backend.upload(render::Scene::of(model));
   const Aabbd bounds = Aabbd(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
   const double diagonal = bounds.diagonal();
-  const double spacing = model->cellSizeWS / (model->texels - 1);
+  const double spacing = model->sampleSpacingWS();
   for (const auto& [yaw, pitch] : {std::pair{35.0, 20.0}, std::pair{215.0, -25.0}}) {
     const ViewAgreement v = compareView(backend, reference, bounds, yaw, pitch);
     const metrics::RayComparison& r = v.rays;
@@ -246,7 +246,7 @@ TEST(TraceVsAnalytic, TorusDepthMatchesTheExactIntersectionLikeEmbreesDoes) {
   options.channels = render::kDepth | render::kMask;
   const render::Frame ours = backend.renderFrame(camera, options);
   const render::Frame embree = reference.renderReference(camera, 96, 96);
-  const double spacing = model->cellSizeWS / (model->texels - 1);
+  const double spacing = model->sampleSpacingWS();
   double worstOurs = 0, worstEmbree = 0;
   int hits = 0, disagreements = 0;
   for (int y = 0; y < 96; ++y)
