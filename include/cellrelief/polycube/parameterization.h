@@ -18,7 +18,10 @@
 ///    comparison uses, areas too), and mean value coordinates (Floater 2003: each vertex to the
 ///    mean-value average of its neighbours, the boundary fixed), the paper's Fig. 8 comparison.
 ///    Vertices with flipped triangles around them first try the mean-value average, which
-///    untangles the folds normal projection leaves at concave creases.
+///    untangles the folds normal projection leaves at concave creases. Untangling phases run
+///    before the sweeps (PolycubeParameterizer::untangle); a map left with a few flips is made
+///    again with a last phase that moves each flipped triangle's neighbourhood as one
+///    (PolycubeParameterizer::repairFolds).
 #pragma once
 
 #include <algorithm>
@@ -174,8 +177,8 @@ class PolycubeParameterizer {
   /// Untangles, then sweeps until the stopping rule holds; where flips are left (a fold the
   /// energy's barrier locked in), untangles and sweeps again, at most three rounds. Where a few
   /// flips (at most kRepairableFlips) are still left, all of it runs once more from the same
-  /// start with untangling's fourth phase (repairFolds) on, and the attempt with fewer flips is
-  /// kept. The fourth phase runs only then because it changes the path of maps that untangle
+  /// start with untangling's fourth phase (repairFolds) on, and that second map is kept unless
+  /// it has more flips than the first. The fourth phase runs only then because it changes the path of maps that untangle
   /// without it (Laurana, extended MIPS: angle distortion 1.072 with it on from the start, 1.052
   /// without). Returns the sweeps run, both attempts counted.
   int optimize(const ParameterizationOptions& options) {
@@ -475,7 +478,8 @@ class PolycubeParameterizer {
   static constexpr std::size_t kRepairableFlips = 64;
   static constexpr int kRepairPasses = 4;
   static constexpr int kRepairTrials = 4096;
-  static constexpr double kRepairMargin = 0.1;  ///< D below which a triangle still counts against a patch
+  /// The normalized texture area below which a triangle still counts against its patch.
+  static constexpr double kRepairMargin = 0.1;
 
   /// The flipped or flat triangles at the current positions (and the area scale, by survey).
   std::vector<std::uint32_t> flippedTriangles() {
