@@ -177,8 +177,9 @@ class PolycubeParameterizer {
   /// Untangles, then sweeps until the stopping rule holds; where flips are left (a fold the
   /// energy's barrier locked in), untangles and sweeps again, at most three rounds. Where a few
   /// flips (at most kRepairableFlips) are still left, all of it runs once more from the same
-  /// start with untangling's fourth phase (repairFolds) on, and that second map is kept unless
-  /// it has more flips than the first. The fourth phase runs only then because it changes the path of maps that untangle
+  /// start with untangling's fourth phase (repairFolds) on, and that second map is kept only if
+  /// it has fewer flips than the first (the repair's random steps leave a little distortion
+  /// behind). The fourth phase runs only then because it changes the path of maps that untangle
   /// without it (Laurana, extended MIPS: angle distortion 1.072 with it on from the start, 1.052
   /// without). Returns the sweeps run, both attempts counted.
   int optimize(const ParameterizationOptions& options) {
@@ -195,7 +196,7 @@ class PolycubeParameterizer {
     mRepairFolds = true;
     sweep = optimizeInRounds(options, sweep);
     mRepairFolds = false;
-    if (survey().flipped > flipped) {
+    if (survey().flipped >= flipped) {
       mTexture = std::move(firstTexture);
       mNormals = std::move(firstNormals);
       survey();
@@ -320,7 +321,7 @@ class PolycubeParameterizer {
   /// untangling regularization is on: then s1 s2 is replaced by (D + sqrt(eps^2 + D^2)) / 2,
   /// positive for every triangle and close to D where D >> eps (Garanzha et al. 2021,
   /// "Foldover-free maps in 50 lines of code"), so descent can pull flipped triangles back.
-  /// The last untangling phase uses that paper's energy, MIPS plus (D^2 + 1) / s1 s2 for the
+  /// The third untangling phase uses that paper's energy, MIPS plus (D^2 + 1) / s1 s2 for the
   /// area, which grows only as 1 / s1 s2 where extended MIPS grows as its fourth power.
   double triangleEnergy(const TriangleFrame& frame, const TriangleStretch& s) const {
     const double d = s.signedArea / (frame.area * mScale2);
@@ -445,7 +446,7 @@ class PolycubeParameterizer {
     return sweep;
   }
 
-  /// Untangling's last phase, for the few folds the sweeps leave (at most kRepairableFlips), in
+  /// Untangling's fourth phase, for the few folds the sweeps leave (at most kRepairableFlips), in
   /// optimize's second attempt only: the vertices within one ring of each flipped triangle's
   /// corners (then two, then three, while it stays flipped) move together, by a (1+1) evolution
   /// strategy, until no triangle of theirs is flipped. A sweep moves one vertex at a time down
@@ -455,10 +456,12 @@ class PolycubeParameterizer {
   /// Per patch: a trial moves each vertex with probability 1/2 by a normal step of radius r
   /// (P puts it back on the surface) and is kept when it lowers (flipped triangles, sum over
   /// the patch's triangles of area x max(0, 1/10 - D)), D the normalized texture area; r grows
-  /// by 3/2 after a kept trial and shrinks by 0.95 after a rejected one (the one-fifth rule's
-  /// balance), from half the patch's longest edge, for at most kRepairTrials. The steps come
-  /// from a hash of (triangle, pass, rings, trial), so the result depends on neither the thread
-  /// count nor a library's random distributions. Passes repeat while a patch improves, at most
+  /// by 3/2 after a kept trial and shrinks by 0.95 after a rejected one (steady at about one
+  /// trial in nine kept), from half the patch's longest edge and never past a cube, for at most
+  /// kRepairTrials. A vertex whose move would turn its normal past a right angle stays: that is
+  /// the far side of a part thinner than the step, where P also takes points. The
+  /// steps come from a splitmix64 sequence seeded by (triangle, pass, rings), so the result
+  /// depends on neither the thread count nor a library's random distributions. Passes repeat while a patch improves, at most
   /// kRepairPasses. The energy is not looked at; the sweeps after it restore it.
   int repairFolds(const ParameterizationOptions& options, int sweep) {
     for (int pass = 0; pass < kRepairPasses; ++pass) {
@@ -478,6 +481,11 @@ class PolycubeParameterizer {
   static constexpr std::size_t kRepairableFlips = 64;
   static constexpr int kRepairPasses = 4;
   static constexpr int kRepairTrials = 4096;
+  /// The largest step radius of a repair trial, in cubes.
+  static constexpr double kRepairLongestStep = 1.0;
+  /// A move whose normal has a component beyond this against the vertex's current one lands
+  /// on the far side of a thin part (see evolvePatch).
+  static constexpr double kRepairFarSide = 0.1;
   /// The normalized texture area below which a triangle still counts against its patch.
   static constexpr double kRepairMargin = 0.1;
 
@@ -559,19 +567,29 @@ class PolycubeParameterizer {
     PatchScore best = start;
     std::vector<Vec3d> kept(movers.size()), keptNormals(movers.size());
     std::uint64_t state = seed;
-    double radius = 0.5 * largestEdge;
+    double radius = std::min(0.5 * largestEdge, kRepairLongestStep);
     for (int trial = 0; trial < kRepairTrials && best.flipped > 0 && radius > 1e-7 * largestEdge; ++trial) {
       for (std::size_t m = 0; m < movers.size(); ++m) {
         kept[m] = mTexture[movers[m]];
         keptNormals[m] = mNormals[movers[m]];
         if (unitInterval(state) < 0.5) continue;
-        const Vec3d step(normalDeviate(state), normalDeviate(state), normalDeviate(state));
-        if (const std::optional<Vec3d> p = mSurface.project(kept[m] + radius * step))
-          moveTo(movers[m], *p, mSurface.normal(*p));
+        // One deviate per statement: the order a constructor's arguments are evaluated in is
+        // unspecified, and each call advances the sequence.
+        Vec3d step;
+        step.x = normalDeviate(state);
+        step.y = normalDeviate(state);
+        step.z = normalDeviate(state);
+        const std::optional<Vec3d> p = mSurface.project(kept[m] + radius * step);
+        if (!p) continue;
+        // A normal turned past a right angle is the far side of a part thinner than a step,
+        // not a neighbouring face: such a move would fold the patch across it unseen.
+        const Vec3d normal = mSurface.normal(*p);
+        if (glm::dot(normal, keptNormals[m]) < -kRepairFarSide) continue;
+        moveTo(movers[m], *p, normal);
       }
       if (const PatchScore score = patchScore(triangles); score < best) {
         best = score;
-        radius *= 1.5;
+        radius = std::min(1.5 * radius, kRepairLongestStep);
       } else {
         for (std::size_t m = 0; m < movers.size(); ++m) moveTo(movers[m], kept[m], keptNormals[m]);
         radius *= 0.95;
@@ -587,7 +605,7 @@ class PolycubeParameterizer {
     return std::sqrt(-2 * std::log(u)) * std::cos(6.283185307179586 * v);
   }
 
-  /// The next value of a splitmix64 sequence, in (0, 1).
+  /// The next value of a splitmix64 sequence, in (0, 1] (never 0, so its logarithm is finite).
   static double unitInterval(std::uint64_t& state) {
     std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -718,7 +736,7 @@ class PolycubeParameterizer {
   /// the triangles whose energy is finite. Per triangle, with X its texture area (signed), F the
   /// squared Frobenius norm of its Jacobian J = sum_k u_k g_k^T (g_k: the gradients of its
   /// barycentric coordinates on the mesh triangle), S the area scale and d = X / (A S) (or its
-  /// regularization): E = A (F / (S d)) (d + 1/d)^theta, or in untangling's last phase
+  /// regularization): E = A (F / (S d)) (d + 1/d)^theta, or in untangling's third phase
   /// A (F / (S d) + (D^2 + 1) / d) with D the unregularized d; dF/du_k = 2 J g_k and
   /// dX/du_k = +-(1/2) c^ x (u_{k+2} - u_{k+1}).
   Vec3d ringGradient(std::size_t v) const {
