@@ -58,7 +58,7 @@ TEST(Conversion, CentredSamplesCentreTheInterpolationErrorOnTheSurface) {
     for (bool centre : {false, true}) {
       const ReliefModel model = convert(sphere, {.gridSize = 1, .texels = texels, .centreSamples = centre});
       const TriangleMesh rebuilt = reconstruct(model, {0, ReconstructionMethod::PerFace});
-      const double spacing = model.cellSizeWS / (texels - 1);
+      const double spacing = model.sampleSpacingWS();
       const std::vector<Vec3d> points = metrics::sampleSurface(rebuilt, 40000);
       Deviation& r = e[centre];
       for (const Vec3d& p : points) {

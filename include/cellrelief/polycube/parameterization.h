@@ -481,6 +481,7 @@ class PolycubeParameterizer {
   static constexpr std::size_t kRepairableFlips = 64;
   static constexpr int kRepairPasses = 4;
   static constexpr int kRepairTrials = 4096;
+  static constexpr int kRepairRings = 3;  ///< the widest patch: vertices within 3 rings of the corners
   /// The largest step radius of a repair trial, in cubes.
   static constexpr double kRepairLongestStep = 1.0;
   /// A move whose normal has a component beyond this against the vertex's current one lands
@@ -535,8 +536,6 @@ class PolycubeParameterizer {
     }
     return improved;
   }
-
-  static constexpr int kRepairRings = 3;
 
   /// Adds every neighbour of the vertices in `vertices` (sorted, each once).
   void addNeighbours(std::vector<std::uint32_t>& vertices) const {
