@@ -61,7 +61,8 @@ struct ModelInfo {
   float distanceScale;
   float texelsMinus1;
   float distanceMax;
-  float pad0;
+  float surfaceMin[3];  // relief::surfaceBoundsWS: the box rays are clipped to
+  float surfaceMax[3];
   int gridSize;
   int texels;
   int cellOffset;
@@ -80,7 +81,7 @@ struct ModelInfo {
   int pyramidLayerStride;
   int layerCount;
   int openSurface;  // ReliefModel::openSurface()
-  int pad1[2];
+  int pad1;
   int levelSize[CR_MAX_PYRAMID_LEVELS];
   int levelOffset[CR_MAX_PYRAMID_LEVELS];
 };
@@ -110,6 +111,8 @@ layout(CR_BIND(9)) uniform usampler2DArray colorAtlas;
 int gModel;
 vec3 gOrigin;
 float gCellSize;
+vec3 gSurfaceMin;  // the surface's box (relief/surface_bounds.h)
+vec3 gSurfaceMax;
 int gGrid;
 int gTexels;
 float gDistanceScale;
@@ -148,6 +151,8 @@ void selectModel(int m) {
   gModel = m;
   gOrigin = vec3(models[m].origin[0], models[m].origin[1], models[m].origin[2]);
   gCellSize = models[m].cellSize;
+  gSurfaceMin = vec3(models[m].surfaceMin[0], models[m].surfaceMin[1], models[m].surfaceMin[2]);
+  gSurfaceMax = vec3(models[m].surfaceMax[0], models[m].surfaceMax[1], models[m].surfaceMax[2]);
   gGrid = models[m].gridSize;
   gTexels = models[m].texels;
   gDistanceScale = models[m].distanceScale;
@@ -975,9 +980,10 @@ Hit searchCell(float t0, float t1) {
 
 // ---- the DDA over the grid (ReliefTracer::trace) -------------------------------------------------
 
-// The slab test of core/aabb.h, widened by 2 gamma(3) at the far end.
+// The slab test of core/aabb.h, widened by 2 gamma(3) at the far end, on the surface's box (the
+// CPU tracer's boundsWS()).
 bool gridSpan(vec3 o, vec3 d, float tmin, float tmax, out float t0, out float t1) {
-  const vec3 lo = gOrigin, hi = gOrigin + vec3(gCellSize * float(gGrid));
+  const vec3 lo = gSurfaceMin, hi = gSurfaceMax;
   t0 = tmin;
   t1 = tmax;
   for (int a = 0; a < 3; ++a) {

@@ -57,6 +57,7 @@
 #include "cellrelief/core/aabb.h"
 #include "cellrelief/core/ray.h"
 #include "cellrelief/relief/relief_model.h"
+#include "cellrelief/relief/surface_bounds.h"
 #include "cellrelief/trace/empty_space.h"
 #include "cellrelief/trace/grid_dda.h"
 #include "cellrelief/trace/trace_options.h"
@@ -90,6 +91,7 @@ class ReliefTracer {
 
   const relief::ReliefModel& model() const { return mModel; }
   const TraceOptions& options() const { return mOptions; }
+  /// The box rays are clipped to: the surface's (relief/surface_bounds.h), not the grid's cube.
   const Aabb<T>& boundsWS() const { return mBounds; }
   /// Bytes the tracer adds to the model (the pyramid; the sparse grid mirrors the cell table).
   std::size_t accelerationBytes() const { return mPyramid.byteSize(); }

@@ -13,8 +13,8 @@ ReliefTracer<T, Search>::ReliefTracer(const relief::ReliefModel& model, const Tr
     const Vec3i p = model.cells[i].ijk();
     acc.setValueOn(openvdb::Coord(p.x, p.y, p.z), std::int32_t(i));
   }
-  mBounds = Aabb<T>(Vec3<T>(model.originWS),
-                    Vec3<T>(model.originWS + Vec3d(model.cellSizeWS * model.gridSize)));
+  const Aabbd surface = relief::surfaceBoundsWS(model);
+  mBounds = Aabb<T>(Vec3<T>(surface.min), Vec3<T>(surface.max));
   mOrigin = Vec3<T>(model.originWS);
   mCellSize = T(model.cellSizeWS);
   mDistanceScale = T(model.distanceCodec.scale());

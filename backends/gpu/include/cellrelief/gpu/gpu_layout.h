@@ -36,6 +36,7 @@
 #include "cellrelief/gpu/parallax_layout.h"
 #include "cellrelief/gpu/polycube_layout.h"
 #include "cellrelief/relief/relief_model.h"
+#include "cellrelief/relief/surface_bounds.h"
 #include "cellrelief/render/scene.h"
 #include "cellrelief/trace/empty_space.h"
 
@@ -72,7 +73,8 @@ struct ModelInfo {
   float distanceScale;  ///< code to distance (cell units)
   float texelsMinus1;
   float distanceMax;    ///< DistanceCodec::distanceMax (cell units)
-  float pad0;
+  float surfaceMin[3];  ///< relief::surfaceBoundsWS: the box rays are clipped to (world units)
+  float surfaceMax[3];
   std::int32_t gridSize;
   std::int32_t texels;
   std::int32_t cellOffset;  ///< index of its first cell in the cell table
@@ -91,7 +93,7 @@ struct ModelInfo {
   std::int32_t pyramidLayerStride;
   std::int32_t layerCount;
   std::int32_t openSurface;  ///< ReliefModel::openSurface(): no side carried across cell faces
-  std::int32_t pad1[2];
+  std::int32_t pad1;
   std::int32_t levelSize[kMaxPyramidLevels];
   std::int32_t levelOffset[kMaxPyramidLevels];
 };
@@ -238,6 +240,11 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     info.distanceScale = float(m.distanceCodec.scale());
     info.texelsMinus1 = float(m.texels - 1);
     info.distanceMax = m.distanceCodec.distanceMax;
+    const Aabbd surface = relief::surfaceBoundsWS(m);
+    for (int a = 0; a < 3; ++a) {
+      info.surfaceMin[a] = float(surface.min[a]);
+      info.surfaceMax[a] = float(surface.max[a]);
+    }
     info.gridSize = m.gridSize;
     info.texels = m.texels;
     info.openSurface = m.openSurface() ? 1 : 0;
