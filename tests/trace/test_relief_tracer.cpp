@@ -240,7 +240,9 @@ TEST(ReliefTracer, CentralCellSkippingTakesFewerStepsAndFindsTheSameHits) {
                 n, (unsigned long long)sampledSteps, (unsigned long long)skipSteps, both, agree, onlySampled,
                 onlySkipping);
     EXPECT_GT(both, 96 * 96 / 8);
-    EXPECT_LT(double(skipSteps), 0.8 * double(sampledSteps)) << "N = " << n;
+    // Both walk only the surface's box (surface_bounds.h), which took from the sampled search the
+    // empty space beside the mesh: at N = 1 it took 418 k steps to 122 k, skipping 143 k to 99 k.
+    EXPECT_LT(double(skipSteps), 0.9 * double(sampledSteps)) << "N = " << n;
     EXPECT_GE(agree, both * 995 / 1000) << "N = " << n;
     EXPECT_LE(onlySampled, both / 1000) << "N = " << n;
     EXPECT_LE(onlySkipping, both / 200) << "N = " << n;

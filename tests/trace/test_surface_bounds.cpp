@@ -45,14 +45,18 @@ TEST(SurfaceBounds, HugTheMeshInsideTheCube) {
     const Aabbd meshBox(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
     const double spacing = model.sampleSpacingWS();
     SCOPED_TRACE(c.file + " N = " + std::to_string(model.gridSize));
+    const double margin = relief::kSurfaceBoundsMarginSamples * spacing;
     for (int a = 0; a < 3; ++a) {
       EXPECT_GE(box.min[a], cube.min[a]);
       EXPECT_LE(box.max[a], cube.max[a]);
-      // The samples reach the mesh's extremes within a spacing; the box adds its margin of two.
-      EXPECT_LE(box.min[a], std::max(cube.min[a], meshBox.min[a] - spacing));
-      EXPECT_GE(box.max[a], std::min(cube.max[a], meshBox.max[a] + spacing));
-      EXPECT_GE(box.min[a], std::max(cube.min[a], meshBox.min[a] - 3 * spacing) - 1e-9);
-      EXPECT_LE(box.max[a], std::min(cube.max[a], meshBox.max[a] + 3 * spacing) + 1e-9);
+      // The samples lie on the mesh (centring moves them by hundredths of a spacing) and reach
+      // its extremes within a spacing; the box adds its margin.
+      const double lo = std::max(cube.min[a], meshBox.min[a] - margin);
+      const double hi = std::min(cube.max[a], meshBox.max[a] + margin);
+      EXPECT_GE(box.min[a], lo - 0.05 * spacing);
+      EXPECT_LE(box.min[a], lo + spacing);
+      EXPECT_LE(box.max[a], hi + 0.05 * spacing);
+      EXPECT_GE(box.max[a], hi - spacing);
     }
     // The cube is the longest side on every axis: the box is smaller on the other two.
     EXPECT_LT(box.extent().x * box.extent().y * box.extent().z,
@@ -103,7 +107,8 @@ TEST(SurfaceBounds, RaysBesideTheBoxMissWithoutAStep) {
   const Aabbd box = relief::surfaceBoundsWS(model);
   EXPECT_EQ(Vec3d(tracer.boundsWS().min), Vec3d(Vec3f(box.min)));
   EXPECT_EQ(Vec3d(tracer.boundsWS().max), Vec3d(Vec3f(box.max)));
-  EXPECT_NEAR(box.max.z, 0.5 + 2 * model.sampleSpacingWS(), 0.5 * model.sampleSpacingWS());
+  const double spacing = model.sampleSpacingWS();
+  EXPECT_NEAR(box.max.z, 0.5 + relief::kSurfaceBoundsMarginSamples * spacing, 0.1 * spacing);
   // Through the cube above the box: no search at all.
   const float above = float(0.5 * (box.max.z + cubeOf(model).max.z));
   const auto miss = tracer.intersect(Rayf(Vec3f(-5, 0, above), Vec3f(1, 0, 0)));
