@@ -22,6 +22,7 @@ struct CellRecord {
   uint info;
   uint firstLayer;
   float point[3];
+  uint reach[2];  // relief::CellReach (gpu::GpuCell)
 };
 layout(std430, CR_BIND(2)) readonly buffer Cells { CellRecord cells[]; };
 layout(std430, CR_BIND(12)) readonly buffer GeoTexWords { uint gtWords[]; };

@@ -91,6 +91,7 @@ struct CellRecord {
   uint info;  // configuration | projectionType << 8 | faceOrAxis << 16 | presentFaces << 24
   uint firstLayer;
   float point[3];
+  uint reach[2];  // relief::CellReach (gpu::GpuCell)
 };
 
 layout(std430, CR_BIND(1)) readonly buffer Models { ModelInfo models[]; };
@@ -145,6 +146,7 @@ uint gDomain;      // domain faces
 bool gInterior;
 bool gCentreInside;
 bool gOpenSurface;  // CellRecord::kOpenSurface: the cell holds a hole's rim
+uvec2 gReach;       // relief::CellReach: where the cell's field can change side
 bool gOpenModel;    // ReliefModel::openSurface(): no side carried across cell faces
 
 void selectModel(int m) {
@@ -186,6 +188,7 @@ void selectCell(int index) {
   gDomain = gInterior ? 63u : (gConfiguration & 63u);
   gCentreInside = (cells[index].packedIjk & CR_CENTRE_INSIDE_BIT) != 0u;
   gOpenSurface = (cells[index].packedIjk & CR_OPEN_SURFACE_BIT) != 0u;
+  gReach = uvec2(cells[index].reach[0], cells[index].reach[1]);
 }
 
 // ---- the cell lookup (gpu_layout.h: cellHash, findCell) ---------------------------------------
@@ -415,14 +418,40 @@ vec3 localPoint(float t) { return gLocalOrigin + t * gLocalDirection; }
 
 // ---- linear + binary search (ReliefTracer::linearBinarySearch) --------------------------------
 
+// relief::CellReach::reaches: whether the segment [t0, t1] can meet a change of side in the cell
+// (the slab test of its 8-bit box, as the CPU writes it).
+bool reachesCell(float t0, float t1) {
+  const vec3 lo = vec3(float(gReach.x & 255u), float((gReach.x >> 8) & 255u), float((gReach.x >> 16) & 255u)) / 255.0;
+  const vec3 hi = vec3(float(gReach.x >> 24), float(gReach.y & 255u), float((gReach.y >> 8) & 255u)) / 255.0;
+  for (int a = 0; a < 3; ++a) {
+    if (lo[a] > hi[a]) return false;  // the empty box
+    if (gLocalDirection[a] == 0.0) {
+      if (gLocalOrigin[a] < lo[a] || gLocalOrigin[a] > hi[a]) return false;
+      continue;
+    }
+    const float inverse = 1.0 / gLocalDirection[a];
+    float tNear = (lo[a] - gLocalOrigin[a]) * inverse, tFar = (hi[a] - gLocalOrigin[a]) * inverse;
+    if (tNear > tFar) {
+      const float swapped = tNear;
+      tNear = tFar;
+      tFar = swapped;
+    }
+    t0 = max(t0, tNear);
+    t1 = min(t1, tFar);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
 // fStart, fpStart: the field and projection at t0; fEnd: the field at the last sample (t1)
-// when nothing is hit.
-Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
+// when nothing is hit. reaches: reachesCell; where the segment cannot meet a change of side,
+// two samples.
+Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd, bool reaches) {
   FacePoint fp = fpStart;
   float fPrev = fStart;
   float footprint = 0.0;
   FacePoint a = fp;
-  for (int k = 1; k <= CR_FOOTPRINT_PROBES; ++k) {
+  for (int k = 1; k <= CR_FOOTPRINT_PROBES && reaches; ++k) {
     const FacePoint b = project(clamp(localPoint(t0 + (t1 - t0) * float(k) / float(CR_FOOTPRINT_PROBES)),
                                       vec3(0.0), vec3(1.0)));
     footprint += a.face == b.face ? length(b.uv - a.uv) : 1.0;
@@ -430,7 +459,7 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
   }
   // BalancedSearch::linearSteps
   const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
-  const int linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
+  const int linear = reaches ? clamp(int(ceil(wanted)), 2, max(2, P.steps.y)) : 2;
   float tPrev = t0, tCrossing = t0;
   uint steps = 1u;
   bool crossed = false;
@@ -943,6 +972,8 @@ Hit centralSkipSearch(float t0, float t1, float fStart) {
 }
 
 Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
+  // A segment that cannot meet a change of side needs no skipping walk either.
+  if (!reachesCell(t0, t1)) return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, false);
   if (CR_SKIP && (gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && (P.flags.y & 1) != 0 &&
       gPyramidOffset >= 0)
     return skipSearch(t0, t1);
@@ -950,7 +981,7 @@ Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout floa
   if (CR_SKIP_CENTRAL && (gProjection == CR_PROJ_PERSPECTIVE || gProjection == CR_PROJ_AXIAL) && !gInterior &&
       (P.flags.y & 2) != 0 && gPyramidOffset >= 0)
     return centralSkipSearch(t0, t1, fStart);
-  return linearBinarySearch(t0, t1, fStart, fpStart, fEnd);
+  return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, true);
 }
 
 // ---- the side carried across cell faces (ReliefTracer::searchCell) -----------------------------

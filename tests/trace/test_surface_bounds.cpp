@@ -4,7 +4,9 @@
 // and the cube does the relief's field read "inside", so clipping loses no crossing.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -31,16 +33,29 @@ const Case kCases[] = {{"meshes/small/fertility_9k__libigl-tutorial-data.off", 1
                        {"meshes/medium/stanford-bunny__common-3d-test-models.obj", 16, 9},
                        {"meshes/medium/armadillo__libigl-tutorial-data.obj", 32, 5}};
 
+/// The case's mesh and its model, converted once for all the tests of this file.
+struct Loaded {
+  TriangleMesh mesh;
+  relief::ReliefModel model;
+};
+const Loaded& load(const Case& c) {
+  static std::map<std::pair<std::string, int>, Loaded> cache;
+  auto [it, inserted] = cache.try_emplace({c.file, c.gridSize});
+  if (inserted) {
+    it->second.mesh = io::readMesh(test::dataDir() / c.file);
+    it->second.model = relief::convert(it->second.mesh, {.gridSize = c.gridSize, .texels = c.texels});
+  }
+  return it->second;
+}
+
 Aabbd cubeOf(const relief::ReliefModel& model) {
   return Aabbd(model.originWS, model.originWS + Vec3d(model.cellSizeWS * model.gridSize));
 }
 
 TEST(SurfaceBounds, HugTheMeshInsideTheCube) {
   for (const Case& c : kCases) {
-    const auto path = test::dataDir() / c.file;
-    CELLRELIEF_REQUIRE_FILE(path);
-    const TriangleMesh mesh = io::readMesh(path);
-    const relief::ReliefModel model = relief::convert(mesh, {.gridSize = c.gridSize, .texels = c.texels});
+    CELLRELIEF_REQUIRE_FILE(test::dataDir() / c.file);
+    const auto& [mesh, model] = load(c);
     const Aabbd box = relief::surfaceBoundsWS(model), cube = cubeOf(model);
     const Aabbd meshBox(Vec3d(mesh.bounds().min), Vec3d(mesh.bounds().max));
     const double spacing = model.sampleSpacingWS();
@@ -67,10 +82,8 @@ TEST(SurfaceBounds, HugTheMeshInsideTheCube) {
 TEST(SurfaceBounds, TheFieldReadsOutsideEverywhereBetweenTheBoxAndTheCube) {
   std::mt19937 random(7);
   for (const Case& c : kCases) {
-    const auto path = test::dataDir() / c.file;
-    CELLRELIEF_REQUIRE_FILE(path);
-    const relief::ReliefModel model =
-        relief::convert(io::readMesh(path), {.gridSize = c.gridSize, .texels = c.texels});
+    CELLRELIEF_REQUIRE_FILE(test::dataDir() / c.file);
+    const relief::ReliefModel& model = load(c).model;
     const ReliefTracerd tracer(model);
     const Aabbd box = relief::surfaceBoundsWS(model), cube = cubeOf(model);
     // Probes in the grey cells the box cuts, in their part outside it.
@@ -96,6 +109,53 @@ TEST(SurfaceBounds, TheFieldReadsOutsideEverywhereBetweenTheBoxAndTheCube) {
     std::printf("%s N = %d: %d grey cells cut by the box, %d probes outside it\n", c.file.c_str(),
                 model.gridSize, cut, probed);
     EXPECT_EQ(inside, 0);
+  }
+}
+
+// The per-cell reach (relief::CellReach): a segment inside a grey cell that misses its box reads
+// one side of the surface all along, as the tracers assume when they take two samples there. A
+// planar cell's halves read their own faces (no crossing at the mid-plane), and in a cell with a
+// hole's rim an empty line beside one with surface is no crossing: segments there stay in one
+// half, and steps to or from an empty line are not counted.
+TEST(SurfaceBounds, ASegmentThatMissesItsCellsReachReadsOneSide) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> along(0, 1);
+  for (const Case& c : kCases) {
+    CELLRELIEF_REQUIRE_FILE(test::dataDir() / c.file);
+    const relief::ReliefModel& model = load(c).model;
+    const ReliefTracerd tracer(model);
+    const std::vector<relief::CellReach> reaches = relief::cellReaches(model);
+    const int segmentsPerCell = std::max(20, 4000 / int(model.cells.size()));
+    constexpr int kSamples = 96;
+    int missed = 0, reached = 0, flips = 0;
+    for (std::size_t i = 0; i < model.cells.size(); ++i) {
+      const relief::CellRecord& r = model.cells[i];
+      const bool planar = r.projectionType == std::uint8_t(projection::ProjectionType::Planar);
+      for (int k = 0; k < segmentsPerCell; ++k) {
+        Vec3d a(along(random), along(random), along(random)), b(along(random), along(random), along(random));
+        if (planar) b[r.faceOrAxis] = a[r.faceOrAxis] < 0.5 ? 0.5 * b[r.faceOrAxis] : 0.5 + 0.5 * b[r.faceOrAxis];
+        if (reaches[i].reaches(a, b - a, 0.0, 1.0)) {
+          ++reached;
+          continue;
+        }
+        ++missed;
+        std::optional<double> previous;
+        for (int s = 0; s <= kSamples; ++s) {
+          const Vec3d unit = a + (b - a) * (double(s) / kSamples);
+          const std::optional<double> f = tracer.fieldAt(model.toWorld(r.ijk(), glm::clamp(unit, 0.001, 0.999)));
+          if (!f) continue;
+          const bool emptyStep = previous && (std::abs(*f) >= constants::kEmptyField ||
+                                              std::abs(*previous) >= constants::kEmptyField);
+          if (previous && (*previous > 0) != (*f > 0) && !(r.openSurface() && emptyStep)) ++flips;
+          previous = f;
+        }
+      }
+    }
+    SCOPED_TRACE(c.file + " N = " + std::to_string(model.gridSize));
+    std::printf("%s N = %d: %d segments miss their cell's reach, %d reach it\n", c.file.c_str(), model.gridSize,
+                missed, reached);
+    EXPECT_GT(missed, c.gridSize == 1 ? 0 : reached / 10);  // the boxes are tighter than their cells
+    EXPECT_EQ(flips, 0);
   }
 }
 

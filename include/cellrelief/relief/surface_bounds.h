@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file surface_bounds.h
+/// Where a ray can meet a relief model's surface: the surface's box over the whole grid
+/// (surfaceBoundsWS) and, per grey cell, the box where its field can change side (CellReach).
+///
 /// The box around a relief model's surface, the part of the grid where a ray can meet it. Every
 /// tracer and shader clips rays to it instead of to the grid's cube: the cube is the mesh's
 /// longest side on every axis, so a ray through the cube beside a flat or slender mesh searched
@@ -19,8 +22,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "cellrelief/core/aabb.h"
+#include "cellrelief/core/parallel.h"
 #include "cellrelief/projection/projections.h"
 #include "cellrelief/relief/relief_model.h"
 
@@ -32,6 +39,52 @@ namespace cellrelief::relief {
 /// with the tracers' float rounding it stays well inside half a spacing. (The test finds the field
 /// reading outside everywhere past the samples' own box, without the margin.)
 inline constexpr double kSurfaceBoundsMarginSamples = 0.5;
+
+/// Where in one grey cell its field can change sign, as a unit-cell box in 8-bit fixed point
+/// (rounded outwards, clipped to the cell), two 32-bit words as the GPU reads them: lo x, y, z and
+/// hi x in the bytes of the first, hi y and z in the low bytes of the second. A ray's segment in
+/// the cell that misses it reads one side of the surface all along, so the tracers take two
+/// samples there (entry and exit, which carry the side on), not a search.
+struct CellReach {
+  std::uint32_t words[2] = {0x00ffffffu, 0};  ///< the empty box: lo 255 > hi 0
+
+  static CellReach of(const Aabbd& unit) {
+    CellReach r;
+    if (unit.isEmpty()) return r;
+    auto down = [](double x) { return std::uint32_t(std::clamp(std::floor(x * 255.0), 0.0, 255.0)); };
+    auto up = [](double x) { return std::uint32_t(std::clamp(std::ceil(x * 255.0), 0.0, 255.0)); };
+    r.words[0] = down(unit.min.x) | down(unit.min.y) << 8 | down(unit.min.z) << 16 | up(unit.max.x) << 24;
+    r.words[1] = up(unit.max.y) | up(unit.max.z) << 8;
+    return r;
+  }
+  Vec3f lo() const {
+    return Vec3f(float(words[0] & 255u), float((words[0] >> 8) & 255u), float((words[0] >> 16) & 255u)) / 255.0f;
+  }
+  Vec3f hi() const {
+    return Vec3f(float(words[0] >> 24), float(words[1] & 255u), float((words[1] >> 8) & 255u)) / 255.0f;
+  }
+  /// Whether the segment origin + t direction, t in [t0, t1] (unit-cell coordinates), meets the box:
+  /// the slab test of core/aabb.h, written as the shader's reachesCell is.
+  template <Real T>
+  bool reaches(const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
+    const Vec3f l = lo(), h = hi();
+    for (int a = 0; a < 3; ++a) {
+      if (l[a] > h[a]) return false;  // the empty box
+      if (direction[a] == T(0)) {
+        if (origin[a] < T(l[a]) || origin[a] > T(h[a])) return false;
+        continue;
+      }
+      const T inverse = T(1) / direction[a];
+      T tNear = (T(l[a]) - origin[a]) * inverse, tFar = (T(h[a]) - origin[a]) * inverse;
+      if (tNear > tFar) std::swap(tNear, tFar);
+      t0 = std::max(t0, tNear);
+      t1 = std::min(t1, tFar);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+};
+static_assert(sizeof(CellReach) == 8);
 
 namespace detail {
 
@@ -48,13 +101,11 @@ struct CellRange {
   }
 };
 
-/// The unit-cell box of one cell's filled samples: their surface points, and in interior cells
-/// their face points too.
-template <class Codes>
-Aabbd cellSampleBounds(const ReliefModel& model, const Codes& codes, const CellRecord& record) {
-  Aabbd box;
+/// Calls visit(proj, face, layer, a, b, uv, distance) for every filled sample of a cell, with its
+/// projection in double (unit-cell coordinates) and the distance decoded.
+template <class Codes, class Visit>
+void forEachFilledSample(const ReliefModel& model, const Codes& codes, const CellRecord& record, Visit&& visit) {
   const int texels = model.texels;
-  const bool interior = record.configuration == 0;
   const std::uint32_t empty = model.distanceCodec.emptyCode();
   const double scale = model.distanceCodec.scale();
   record.projection<double>().visit([&](const auto& proj) {
@@ -65,16 +116,71 @@ Aabbd cellSampleBounds(const ReliefModel& model, const Codes& codes, const CellR
         for (int a = 0; a < texels; ++a) {
           const std::uint32_t code = codes(layer, a, b);
           if (code >= empty) continue;
-          const Vec2d uv(double(a) / (texels - 1), double(b) / (texels - 1));
-          box.extend(proj.unproject(f, uv, double(code) * scale));
-          if (interior) box.extend(projection::facePoint(f, uv));
+          visit(proj, f, layer, a, b, Vec2d(double(a) / (texels - 1), double(b) / (texels - 1)), double(code) * scale);
         }
     }
+  });
+}
+
+/// The unit-cell box of one cell's filled samples: their surface points, and in interior cells
+/// their face points too.
+template <class Codes>
+Aabbd cellSampleBounds(const ReliefModel& model, const Codes& codes, const CellRecord& record) {
+  Aabbd box;
+  const bool interior = record.configuration == 0;
+  forEachFilledSample(model, codes, record, [&](const auto& proj, int f, int, int, int, const Vec2d& uv, double d) {
+    box.extend(proj.unproject(f, uv, d));
+    if (interior) box.extend(projection::facePoint(f, uv));
   });
   return box;
 }
 
+/// The unit-cell box of every point where one cell's field can change sign: the surface points of
+/// its filled samples; where a filled sample borders an empty one (in its layer, or, in a central
+/// cell with a domain face that has no layer, on its layer's edge), the line from its surface
+/// point to the line's end, for the field jumps there from "beyond the surface" to "no surface";
+/// in interior cells the filled samples' face points (mixedTexel). Grown by
+/// kSurfaceBoundsMarginSamples spacings.
+template <class Codes>
+Aabbd cellReachBox(const ReliefModel& model, const Codes& codes, const CellRecord& record) {
+  Aabbd box;
+  const int texels = model.texels;
+  const bool interior = record.configuration == 0;
+  const std::uint32_t empty = model.distanceCodec.emptyCode();
+  const auto type = static_cast<projection::ProjectionType>(record.projectionType);
+  const bool central = type == projection::ProjectionType::Perspective || type == projection::ProjectionType::Axial;
+  const bool faceWithoutLayer = (record.presentFaces & 63u) != (cells::domainFacesOf(record.configuration) & 63u);
+  forEachFilledSample(model, codes, record,
+                      [&](const auto& proj, int f, int layer, int a, int b, const Vec2d& uv, double d) {
+    auto emptyAt = [&](int x, int y) {
+      return x >= 0 && y >= 0 && x < texels && y < texels && codes(layer, x, y) >= empty;
+    };
+    const Vec3d onFace = projection::facePoint(f, uv);
+    box.extend(proj.unproject(f, uv, d));
+    if (interior) box.extend(onFace);
+    bool bordersEmpty = central && faceWithoutLayer && (a == 0 || b == 0 || a == texels - 1 || b == texels - 1);
+    for (int db = -1; db <= 1 && !bordersEmpty; ++db)
+      for (int da = -1; da <= 1 && !bordersEmpty; ++da) bordersEmpty = emptyAt(a + da, b + db);
+    if (bordersEmpty) box.extend(proj.lineEnd(f, onFace));
+  });
+  if (box.isEmpty()) return box;
+  const double margin = kSurfaceBoundsMarginSamples / double(std::max(1, texels - 1));
+  return Aabbd(box.min - margin, box.max + margin);
+}
+
 }  // namespace detail
+
+/// CellReach of every cell of the model, in the cell table's order.
+inline std::vector<CellReach> cellReaches(const ReliefModel& model) {
+  std::vector<CellReach> reaches(model.cells.size());
+  if (model.layerCount() == 0) return reaches;
+  model.visitDistanceCodes([&](const auto& codes) {
+    parallelFor(0, model.cells.size(), [&](std::size_t i) {
+      reaches[i] = CellReach::of(detail::cellReachBox(model, codes, model.cells[i]));
+    }, 16);
+  });
+  return reaches;
+}
 
 /// The world box that holds the model's surface (every zero of its field), grown by
 /// kSurfaceBoundsMarginSamples sample spacings and clipped to the grid's cube; the cube itself

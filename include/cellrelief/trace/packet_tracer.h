@@ -264,8 +264,13 @@ class ReliefPacketTracer {
         s.walk.reset();
         continue;
       }
-      packet.linear[l] = float(Search::linearSteps(
-          mReference.options(), double(packet.footprint[l] * float(m.texels - 1))));
+      // Two samples where the segment cannot meet a change of side (linearBinarySearch).
+      const bool reaches = mReference.segmentReaches(
+          cellOf(lanes[l]), Vec3f(packet.ox[l], packet.oy[l], packet.oz[l]),
+          Vec3f(packet.dx[l], packet.dy[l], packet.dz[l]), packet.t0[l], packet.t1[l]);
+      packet.linear[l] = reaches ? float(Search::linearSteps(mReference.options(),
+                                                             double(packet.footprint[l] * float(m.texels - 1))))
+                                 : 2.0f;
     }
     packetSearchCell(maps, mReference.options().binarySteps, packet);
     for (std::size_t l = 0; l < lanes.size(); ++l) {

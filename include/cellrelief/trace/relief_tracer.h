@@ -93,8 +93,17 @@ class ReliefTracer {
   const TraceOptions& options() const { return mOptions; }
   /// The box rays are clipped to: the surface's (relief/surface_bounds.h), not the grid's cube.
   const Aabb<T>& boundsWS() const { return mBounds; }
-  /// Bytes the tracer adds to the model (the pyramid; the sparse grid mirrors the cell table).
-  std::size_t accelerationBytes() const { return mPyramid.byteSize(); }
+  /// Bytes the tracer adds to the model (the pyramid and the cells' reach boxes; the sparse grid
+  /// mirrors the cell table).
+  std::size_t accelerationBytes() const {
+    return mPyramid.byteSize() + mCellReach.size() * sizeof(relief::CellReach);
+  }
+  /// Whether a ray's segment origin + t direction, t in [t0, t1], in the unit frame of cell
+  /// `index` can meet a change of side (relief::CellReach): where it cannot, the search takes two
+  /// samples, the entry and the exit.
+  bool segmentReaches(std::int32_t index, const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
+    return mCellReach[std::size_t(index)].reaches(origin, direction, t0, t1);
+  }
 
   /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
   /// be normalized; t is in units of it.
@@ -223,9 +232,10 @@ class ReliefTracer {
   /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
   /// sample (t1) when nothing is hit.
   template <class Codes, class P>
+  /// `reaches`: segmentReaches; where the segment cannot meet a change of side, two samples.
   Hit linearBinarySearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
                          const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,
-                         const projection::FacePoint<T>& fpStart, T& fEnd) const;
+                         const projection::FacePoint<T>& fpStart, T& fEnd, bool reaches) const;
 
   /// The binary search between a sample on one side of the surface (lo, where the field's sign
   /// is `positiveLo`) and one on the other (hi): the hit at the last bracket's far end.
@@ -351,6 +361,7 @@ class ReliefTracer {
   TraceOptions mOptions;
   openvdb::Int32Grid::Ptr mGrid;
   Aabb<T> mBounds;
+  std::vector<relief::CellReach> mCellReach;  ///< per cell, where its field can change sign
   Vec3<T> mOrigin{0};
   T mCellSize = 1;
   T mDistanceScale = 0;

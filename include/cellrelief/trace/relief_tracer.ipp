@@ -15,6 +15,7 @@ ReliefTracer<T, Search>::ReliefTracer(const relief::ReliefModel& model, const Tr
   }
   const Aabbd surface = relief::surfaceBoundsWS(model);
   mBounds = Aabb<T>(Vec3<T>(surface.min), Vec3<T>(surface.max));
+  mCellReach = relief::cellReaches(model);
   mOrigin = Vec3<T>(model.originWS);
   mCellSize = T(model.cellSizeWS);
   mDistanceScale = T(model.distanceCodec.scale());
@@ -188,6 +189,9 @@ auto ReliefTracer<T, Search>::searchInside(const Codes& codes, const P& proj,
                                            T& fEnd) const -> Hit {
   constexpr bool kSingleDirection = std::is_same_v<P, projection::ParallelProjection<T>> ||
                                     std::is_same_v<P, projection::PlanarProjection<T>>;
+  // A segment that cannot meet a change of side needs no skipping walk either.
+  if (!segmentReaches(index, frame.origin, frame.direction, t0, t1))
+    return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, false);
   if constexpr (kSingleDirection) {
     if (mOptions.skipEmptySpace) return skipSearch(codes, proj, r, index, ray, frame, t0, t1);
   } else {
@@ -196,7 +200,7 @@ auto ReliefTracer<T, Search>::searchInside(const Codes& codes, const P& proj,
     if (mOptions.skipEmptySpace && mOptions.skipCentralCells && r.configuration != 0)
       return centralSkipSearch(codes, proj, r, index, ray, frame, t0, t1, fStart);
   }
-  return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd);
+  return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, true);
 }
 
 template <Real T, SearchPolicy Search>
@@ -206,7 +210,7 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
                                                  const Ray<T>& ray, const CellFrame& frame, T t0,
                                                  T t1, T fStart,
                                                  const projection::FacePoint<T>& fpStart,
-                                                 T& fEnd) const -> Hit {
+                                                 T& fEnd, bool reaches) const -> Hit {
   auto local = [&](T t) { return frame.origin + t * frame.direction; };
   projection::FacePoint<T> fp = fpStart;
   T fPrev = fStart;
@@ -214,13 +218,13 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
   // whole face crossed (conservative: the two pieces meet on the shared edge).
   T footprint = 0;
   projection::FacePoint<T> a = fp;
-  for (int k = 1; k <= constants::kFootprintProbes; ++k) {
+  for (int k = 1; k <= constants::kFootprintProbes && reaches; ++k) {
     const projection::FacePoint<T> b = proj.project(glm::clamp(
         local(t0 + (t1 - t0) * T(k) / T(constants::kFootprintProbes)), Vec3<T>(0), Vec3<T>(1)));
     footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
     a = b;
   }
-  const int linear = Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1)));
+  const int linear = reaches ? Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1))) : 2;
   T tPrev = t0;
   std::uint32_t steps = 1;
   // In a cell with a hole's rim, a step between an empty line and one with surface is no

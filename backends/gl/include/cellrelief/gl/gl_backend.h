@@ -91,7 +91,7 @@ class GlBackend final : public render::Backend, public gpu::TraversalControls {
     for (int i = 0; i < 64 && glGetError() != GL_NO_ERROR; ++i) {
     }  // earlier errors are not this upload's (bounded: a lost context reports forever)
     mBuffers[0] = storageBuffer(mGpu.models.data(), mGpu.models.size() * sizeof(gpu::ModelInfo));
-    mBuffers[1] = storageBuffer(mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord));
+    mBuffers[1] = storageBuffer(mGpu.cells.data(), mGpu.cells.size() * sizeof(gpu::GpuCell));
     mBuffers[2] = storageBuffer(mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t));
     mBuffers[3] = storageBuffer(mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t));
     mBuffers[4] = storageBuffer(mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t));

@@ -16,7 +16,8 @@
 /// - The cell lookup is an open-addressing hash table of the grey cells (load factor <= 1/2,
 ///   linear probing), so it costs memory in proportion to the grey cells, not to N^3; the DDA
 ///   pays one or two probes per white or black cell, as the CPU pays an OpenVDB accessor lookup.
-/// - The cell table is the model's CellRecord array as is (24-byte std430 structs).
+/// - The cell table is the model's CellRecord array, each with its relief::CellReach (GpuCell,
+///   32-byte std430 structs).
 /// - The min pyramid of the empty-space skip (trace/empty_space.h), levels 1 and up, as 16-bit
 ///   codes, only when skipping is on and the model has cells other than interior ones.
 /// Everything is counted in bytes(): what sceneBytes() reports.
@@ -118,9 +119,16 @@ struct Atlas {
   std::size_t bytes() const { return texels.size() * sizeof(T); }
 };
 
+/// One cell as the shader reads it: the model's record and where its field can change side.
+struct GpuCell {
+  relief::CellRecord record;
+  relief::CellReach reach;
+};
+static_assert(sizeof(GpuCell) == 32);
+
 struct GpuScene {
   std::vector<ModelInfo> models;
-  std::vector<relief::CellRecord> cells;
+  std::vector<GpuCell> cells;
   std::vector<std::uint32_t> hashSlots;   ///< pairs (key, cell index); key 0 is an empty slot
   std::vector<std::uint16_t> pyramid;     ///< min pyramid codes, levels >= 1
   Atlas<std::uint16_t> distances;         ///< R16UI: codes (8-bit models keep their own empty code)
@@ -142,7 +150,7 @@ struct GpuScene {
   }
 
   std::size_t bytes() const {
-    return models.size() * sizeof(ModelInfo) + cells.size() * sizeof(relief::CellRecord) +
+    return models.size() * sizeof(ModelInfo) + cells.size() * sizeof(GpuCell) +
            hashSlots.size() * sizeof(std::uint32_t) + pyramid.size() * sizeof(std::uint16_t) +
            distances.bytes() + normalsOct.bytes() + normalsRgba.bytes() + colors.bytes() + polycube.bytes() +
            geotex.bytes() + parallax.bytes();
@@ -251,7 +259,8 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     info.cellOffset = int(out.cells.size());
     std::tie(info.hashOffset, info.hashMask) =
         detail::appendHashTable(m, info.cellOffset, out.hashSlots);
-    out.cells.insert(out.cells.end(), m.cells.begin(), m.cells.end());
+    const std::vector<relief::CellReach> reaches = relief::cellReaches(m);
+    for (std::size_t c = 0; c < m.cells.size(); ++c) out.cells.push_back({m.cells[c], reaches[c]});
     info.emptyCode = int(m.distanceCodec.emptyCode());
     info.normalFormat = int(m.normalFormat);
     info.colorFormat = int(m.colorFormat);
@@ -349,7 +358,7 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
                                                 ", beyond the device's storage buffer limit of " +
                                                 detail::mib(limits.maxStorageBytes));
   };
-  checkBuffer(out.cells.size() * sizeof(relief::CellRecord), "cell table");
+  checkBuffer(out.cells.size() * sizeof(GpuCell), "cell table");
   checkBuffer(out.hashSlots.size() * sizeof(std::uint32_t), "cell hash table");
   checkBuffer(out.pyramid.size() * sizeof(std::uint16_t), "empty-space pyramid");
   out.polycube = packPolycubeMeshes(scene, limits.maxTextureSize, limits.maxStorageBytes);

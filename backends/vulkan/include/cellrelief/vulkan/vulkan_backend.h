@@ -244,7 +244,7 @@ class VulkanBackend final : public render::Backend, public gpu::TraversalControl
     };
     const BufferUpload buffers[kBufferCount] = {
         {mGpu.models.data(), mGpu.models.size() * sizeof(gpu::ModelInfo)},
-        {mGpu.cells.data(), mGpu.cells.size() * sizeof(relief::CellRecord)},
+        {mGpu.cells.data(), mGpu.cells.size() * sizeof(gpu::GpuCell)},
         {mGpu.hashSlots.data(), mGpu.hashSlots.size() * sizeof(std::uint32_t)},
         {mGpu.pyramid.data(), mGpu.pyramid.size() * sizeof(std::uint16_t)},
         {mGpu.polycube.words.data(), mGpu.polycube.words.size() * sizeof(std::uint32_t)},
