@@ -230,9 +230,9 @@ class ReliefTracer {
                    const projection::FacePoint<T>& fpStart, T& fEnd) const;
 
   /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
-  /// sample (t1) when nothing is hit.
+  /// sample (t1) when nothing is hit. `reaches`: segmentReaches; where the segment cannot meet a
+  /// change of side, two samples.
   template <class Codes, class P>
-  /// `reaches`: segmentReaches; where the segment cannot meet a change of side, two samples.
   Hit linearBinarySearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
                          const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,
                          const projection::FacePoint<T>& fpStart, T& fEnd, bool reaches) const;
