@@ -445,21 +445,24 @@ bool reachesCell(float t0, float t1) {
 
 // fStart, fpStart: the field and projection at t0; fEnd: the field at the last sample (t1)
 // when nothing is hit. reaches: reachesCell; where the segment cannot meet a change of side,
-// two samples.
+// the fewest steps (CR_LINEAR_STEPS_OUTSIDE_REACH).
 Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd, bool reaches) {
   FacePoint fp = fpStart;
   float fPrev = fStart;
-  float footprint = 0.0;
-  FacePoint a = fp;
-  for (int k = 1; k <= CR_FOOTPRINT_PROBES && reaches; ++k) {
-    const FacePoint b = project(clamp(localPoint(t0 + (t1 - t0) * float(k) / float(CR_FOOTPRINT_PROBES)),
-                                      vec3(0.0), vec3(1.0)));
-    footprint += a.face == b.face ? length(b.uv - a.uv) : 1.0;
-    a = b;
+  int linear = CR_LINEAR_STEPS_OUTSIDE_REACH;
+  if (reaches) {
+    float footprint = 0.0;
+    FacePoint a = fp;
+    for (int k = 1; k <= CR_FOOTPRINT_PROBES; ++k) {
+      const FacePoint b = project(clamp(localPoint(t0 + (t1 - t0) * float(k) / float(CR_FOOTPRINT_PROBES)),
+                                        vec3(0.0), vec3(1.0)));
+      footprint += a.face == b.face ? length(b.uv - a.uv) : 1.0;
+      a = b;
+    }
+    // BalancedSearch::linearSteps
+    const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
+    linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
   }
-  // BalancedSearch::linearSteps
-  const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
-  const int linear = reaches ? clamp(int(ceil(wanted)), 2, max(2, P.steps.y)) : 2;
   float tPrev = t0, tCrossing = t0;
   uint steps = 1u;
   bool crossed = false;

@@ -113,7 +113,7 @@ TEST(SurfaceBounds, TheFieldReadsOutsideEverywhereBetweenTheBoxAndTheCube) {
 }
 
 // The per-cell reach (relief::CellReach): a segment inside a grey cell that misses its box reads
-// one side of the surface all along, as the tracers assume when they take two samples there. A
+// one side of the surface all along, as the tracers assume when they take two steps there. A
 // planar cell's halves read their own faces (no crossing at the mid-plane), and in a cell with a
 // hole's rim an empty line beside one with surface is no crossing: segments there stay in one
 // half, and steps to or from an empty line are not counted.

@@ -361,8 +361,9 @@ class PolycubeParameterizer {
 
   /// One pass over the triangles at the current positions: the flipped ones, the area scale
   /// (texture area per unit of mesh area over the others, which the energies compare areas at
-  /// until the next survey) and the total energy.
-  Survey survey() {
+  /// until the next survey) and the total energy. `flippedOut`, when given, gets the flipped or
+  /// flat triangles' indices.
+  Survey survey(std::vector<std::uint32_t>* flippedOut = nullptr) {
     std::vector<TriangleStretch> stretch(mTriangles.size());
     Survey result;
     double mesh = 0, texture = 0;
@@ -380,7 +381,10 @@ class PolycubeParameterizer {
     for (std::size_t i = 0; i < mTriangles.size(); ++i) {
       if (mFrames[i].degenerate()) continue;
       result.smallestArea = std::min(result.smallestArea, stretch[i].signedArea / (mFrames[i].area * mScale2));
-      if (flippedOrFlat(stretch[i].signedArea, mFrames[i].area, mScale2)) ++result.flipped;
+      if (flippedOrFlat(stretch[i].signedArea, mFrames[i].area, mScale2)) {
+        ++result.flipped;
+        if (flippedOut) flippedOut->push_back(std::uint32_t(i));
+      }
       const double e = triangleEnergy(mFrames[i], stretch[i]);
       if (std::isfinite(e)) result.energy += e;
     }
@@ -461,8 +465,9 @@ class PolycubeParameterizer {
   /// kRepairTrials. A vertex whose move would turn its normal past a right angle stays: that is
   /// the far side of a part thinner than the step, where P also takes points. The
   /// steps come from a splitmix64 sequence seeded by (triangle, pass, rings), so the result
-  /// depends on neither the thread count nor a library's random distributions. Passes repeat while a patch improves, at most
-  /// kRepairPasses. The energy is not looked at; the sweeps after it restore it.
+  /// depends on neither the thread count nor a library's random distributions. Passes repeat
+  /// while a patch improves, at most kRepairPasses. The energy is not looked at; the sweeps
+  /// after it restore it.
   int repairFolds(const ParameterizationOptions& options, int sweep) {
     for (int pass = 0; pass < kRepairPasses; ++pass) {
       const std::vector<std::uint32_t> flipped = flippedTriangles();
@@ -492,10 +497,8 @@ class PolycubeParameterizer {
 
   /// The flipped or flat triangles at the current positions (and the area scale, by survey).
   std::vector<std::uint32_t> flippedTriangles() {
-    survey();
     std::vector<std::uint32_t> flipped;
-    for (std::uint32_t i = 0; i < mTriangles.size(); ++i)
-      if (patchScore(std::span(&i, 1)).flipped > 0) flipped.push_back(i);
+    survey(&flipped);
     return flipped;
   }
 

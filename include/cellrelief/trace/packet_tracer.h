@@ -264,13 +264,13 @@ class ReliefPacketTracer {
         s.walk.reset();
         continue;
       }
-      // Two samples where the segment cannot meet a change of side (linearBinarySearch).
+      // The fewest steps where the segment cannot meet a change of side (linearBinarySearch).
       const bool reaches = mReference.segmentReaches(
           cellOf(lanes[l]), Vec3f(packet.ox[l], packet.oy[l], packet.oz[l]),
           Vec3f(packet.dx[l], packet.dy[l], packet.dz[l]), packet.t0[l], packet.t1[l]);
-      packet.linear[l] = reaches ? float(Search::linearSteps(mReference.options(),
-                                                             double(packet.footprint[l] * float(m.texels - 1))))
-                                 : 2.0f;
+      packet.linear[l] = float(reaches ? Search::linearSteps(mReference.options(),
+                                                             double(packet.footprint[l] * float(m.texels - 1)))
+                                       : constants::kLinearStepsOutsideReach);
     }
     packetSearchCell(maps, mReference.options().binarySteps, packet);
     for (std::size_t l = 0; l < lanes.size(); ++l) {

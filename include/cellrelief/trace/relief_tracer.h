@@ -99,8 +99,8 @@ class ReliefTracer {
     return mPyramid.byteSize() + mCellReach.size() * sizeof(relief::CellReach);
   }
   /// Whether a ray's segment origin + t direction, t in [t0, t1], in the unit frame of cell
-  /// `index` can meet a change of side (relief::CellReach): where it cannot, the search takes two
-  /// samples, the entry and the exit.
+  /// `index` can meet a change of side (relief::CellReach): where it cannot, the search takes
+  /// constants::kLinearStepsOutsideReach steps (the middle and the exit).
   bool segmentReaches(std::int32_t index, const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
     return mCellReach[std::size_t(index)].reaches(origin, direction, t0, t1);
   }
@@ -231,7 +231,7 @@ class ReliefTracer {
 
   /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
   /// sample (t1) when nothing is hit. `reaches`: segmentReaches; where the segment cannot meet a
-  /// change of side, two samples.
+  /// change of side, constants::kLinearStepsOutsideReach steps.
   template <class Codes, class P>
   Hit linearBinarySearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
                          const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,

@@ -214,17 +214,20 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
   auto local = [&](T t) { return frame.origin + t * frame.direction; };
   projection::FacePoint<T> fp = fpStart;
   T fPrev = fStart;
-  // The footprint on the maps, from four points of the segment; a change of face counts as a
-  // whole face crossed (conservative: the two pieces meet on the shared edge).
-  T footprint = 0;
-  projection::FacePoint<T> a = fp;
-  for (int k = 1; k <= constants::kFootprintProbes && reaches; ++k) {
-    const projection::FacePoint<T> b = proj.project(glm::clamp(
-        local(t0 + (t1 - t0) * T(k) / T(constants::kFootprintProbes)), Vec3<T>(0), Vec3<T>(1)));
-    footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
-    a = b;
+  int linear = constants::kLinearStepsOutsideReach;
+  if (reaches) {
+    // The footprint on the maps, from four points of the segment; a change of face counts as a
+    // whole face crossed (conservative: the two pieces meet on the shared edge).
+    T footprint = 0;
+    projection::FacePoint<T> a = fp;
+    for (int k = 1; k <= constants::kFootprintProbes; ++k) {
+      const projection::FacePoint<T> b = proj.project(glm::clamp(
+          local(t0 + (t1 - t0) * T(k) / T(constants::kFootprintProbes)), Vec3<T>(0), Vec3<T>(1)));
+      footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
+      a = b;
+    }
+    linear = Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1)));
   }
-  const int linear = reaches ? Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1))) : 2;
   T tPrev = t0;
   std::uint32_t steps = 1;
   // In a cell with a hole's rim, a step between an empty line and one with surface is no

@@ -112,6 +112,7 @@ inline std::string traversalConstants() {
   s += define("CR_EMPTY_FIELD", glslFloat(c::kEmptyField));
   s += define("CR_NEAR_FACE_SAMPLES", glslFloat(c::kNearFaceSamples));
   s += define("CR_FOOTPRINT_PROBES", c::kFootprintProbes);
+  s += define("CR_LINEAR_STEPS_OUTSIDE_REACH", c::kLinearStepsOutsideReach);
   s += define("CR_SKIP_PROGRESS", glslFloat(c::kSkipProgress));
   s += define("CR_CENTRAL_TEXEL_SAMPLES", c::kCentralTexelSamples);
   s += define("CR_NUDGE_ULPS", glslFloat(c::kNudgeUlps));
