@@ -418,9 +418,9 @@ vec3 localPoint(float t) { return gLocalOrigin + t * gLocalDirection; }
 
 // ---- linear + binary search (ReliefTracer::linearBinarySearch) --------------------------------
 
-// relief::CellReach::reaches: whether the segment [t0, t1] can meet a change of side in the cell
-// (the slab test of its 8-bit box, as the CPU writes it).
-bool reachesCell(float t0, float t1) {
+// relief::CellReach::clip: [t0, t1] narrowed to where the segment can meet a change of side in
+// the cell (the slab test of its 8-bit box, as the CPU writes it); false where it cannot.
+bool clipToReach(inout float t0, inout float t1) {
   const vec3 lo = vec3(float(gReach.x & 255u), float((gReach.x >> 8) & 255u), float((gReach.x >> 16) & 255u)) / 255.0;
   const vec3 hi = vec3(float(gReach.x >> 24), float(gReach.y & 255u), float((gReach.y >> 8) & 255u)) / 255.0;
   for (int a = 0; a < 3; ++a) {
@@ -443,18 +443,22 @@ bool reachesCell(float t0, float t1) {
   return true;
 }
 
-// fStart, fpStart: the field and projection at t0; fEnd: the field at the last sample (t1)
-// when nothing is hit. reaches: reachesCell; where the segment cannot meet a change of side,
-// the fewest steps (CR_LINEAR_STEPS_OUTSIDE_REACH).
-Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd, bool reaches) {
+// fStart, fpStart: the field and projection at t0; fEnd: the field at t1 when nothing is hit.
+// reached: the segment meets the cell's reach, [from, to] (clipToReach), which the linear samples
+// cover; where it does not, the fewest steps over [t0, t1] (CR_LINEAR_STEPS_OUTSIDE_REACH).
+Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd, bool reached,
+                       float from, float to) {
   FacePoint fp = fpStart;
   float fPrev = fStart;
   int linear = CR_LINEAR_STEPS_OUTSIDE_REACH;
-  if (reaches) {
+  int facePrev = fp.face;
+  if (reached) {
+    // Outside the cell's reach the field keeps the side read at t0.
     float footprint = 0.0;
-    FacePoint a = fp;
+    FacePoint a = project(clamp(localPoint(from), vec3(0.0), vec3(1.0)));
+    facePrev = a.face;
     for (int k = 1; k <= CR_FOOTPRINT_PROBES; ++k) {
-      const FacePoint b = project(clamp(localPoint(t0 + (t1 - t0) * float(k) / float(CR_FOOTPRINT_PROBES)),
+      const FacePoint b = project(clamp(localPoint(from + (to - from) * float(k) / float(CR_FOOTPRINT_PROBES)),
                                         vec3(0.0), vec3(1.0)));
       footprint += a.face == b.face ? length(b.uv - a.uv) : 1.0;
       a = b;
@@ -463,12 +467,11 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
     linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
   }
-  float tPrev = t0, tCrossing = t0;
+  float tPrev = from, tCrossing = from;
   uint steps = 1u;
   bool crossed = false;
-  int facePrev = fp.face;
   for (int i = 1; i <= linear; ++i) {
-    const float t = t0 + (t1 - t0) * float(i) / float(linear);
+    const float t = from + (to - from) * float(i) / float(linear);
     const float f = field(localPoint(t), fp);
     ++steps;
     // With a hole's rim in the cell, a step between an empty line and one with surface is no crossing;
@@ -485,6 +488,11 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     tPrev = t;
   }
   if (!crossed) {
+    // The next cell weighs the field where the ray leaves (crossesAtFace): read there, past the reach.
+    if (to < t1) {
+      fPrev = field(localPoint(t1), fp);
+      ++steps;
+    }
     fEnd = fPrev;
     return missAfter(steps);
   }
@@ -976,15 +984,16 @@ Hit centralSkipSearch(float t0, float t1, float fStart) {
 
 Hit searchInside(float t0, float t1, float fStart, FacePoint fpStart, inout float fEnd) {
   // A segment that cannot meet a change of side needs no skipping walk either.
-  if (!reachesCell(t0, t1)) return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, false);
+  float from = t0, to = t1;
+  if (!clipToReach(from, to)) return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, false, t0, t1);
   if (CR_SKIP && (gProjection == CR_PROJ_PARALLEL || gProjection == CR_PROJ_PLANAR) && (P.flags.y & 1) != 0 &&
       gPyramidOffset >= 0)
-    return skipSearch(t0, t1);
+    return skipSearch(from, to);
   // Not in interior cells (see ReliefTracer::searchInside).
   if (CR_SKIP_CENTRAL && (gProjection == CR_PROJ_PERSPECTIVE || gProjection == CR_PROJ_AXIAL) && !gInterior &&
       (P.flags.y & 2) != 0 && gPyramidOffset >= 0)
-    return centralSkipSearch(t0, t1, fStart);
-  return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, true);
+    return centralSkipSearch(from, to, fStart);
+  return linearBinarySearch(t0, t1, fStart, fpStart, fEnd, true, from, to);
 }
 
 // ---- the side carried across cell faces (ReliefTracer::searchCell) -----------------------------

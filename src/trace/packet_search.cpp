@@ -318,14 +318,16 @@ HWY_INLINE V Field(D d, const PacketMaps& maps, int type, const LaneCells& cells
 /// The ray's lanes [lane, lane + Lanes(d)).
 struct LaneRays {
   Point o, dir;
-  V t0, t1;
+  V t0, t1, from, to;
 };
 
 HWY_INLINE LaneRays LoadRays(D d, const PacketRays& r, std::size_t lane) {
   return {{{hn::Load(d, r.ox + lane), hn::Load(d, r.oy + lane), hn::Load(d, r.oz + lane)}},
           {{hn::Load(d, r.dx + lane), hn::Load(d, r.dy + lane), hn::Load(d, r.dz + lane)}},
           hn::Load(d, r.t0 + lane),
-          hn::Load(d, r.t1 + lane)};
+          hn::Load(d, r.t1 + lane),
+          hn::Load(d, r.from + lane),
+          hn::Load(d, r.to + lane)};
 }
 
 HWY_INLINE LaneCells LoadCells(D d, const PacketRays& r, std::size_t lane) {
@@ -366,13 +368,14 @@ void EnterCell(const PacketMaps& maps, PacketRays& rays) {
     const LaneCells cells = LoadCells(d, rays, lane);
     Projected start;
     const V f = Field(d, maps, type, cells, At(r, r.t0), start);
-    // The footprint of the segment on the maps (linearBinarySearch), from kFootprintProbes
+    // The footprint of [from, to] on the maps (linearBinarySearch), from kFootprintProbes
     // points past its start; a change of face counts as a whole face.
     V footprint = hn::Zero(d);
-    Projected a = start;
+    Projected a = Project(d, type, cells, ClampedAt(d, r, r.from));
+    hn::Store(a.face, d, rays.faceFrom + lane);
     for (int k = 1; k <= kFootprintProbes; ++k) {
-      const V t = hn::Add(r.t0, hn::Div(hn::Mul(hn::Sub(r.t1, r.t0), hn::Set(d, float(k))),
-                                        hn::Set(d, float(kFootprintProbes))));
+      const V t = hn::Add(r.from, hn::Div(hn::Mul(hn::Sub(r.to, r.from), hn::Set(d, float(k))),
+                                          hn::Set(d, float(kFootprintProbes))));
       const Projected b = Project(d, type, cells, ClampedAt(d, r, t));
       const V du = hn::Sub(b.u, a.u), dv = hn::Sub(b.v, a.v);
       const V length = hn::Sqrt(hn::Add(hn::Mul(du, du), hn::Mul(dv, dv)));
@@ -402,15 +405,18 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
     float mostSteps = 0;
     for (std::size_t i = 0; i < inPacket; ++i)
       mostSteps = std::max(mostSteps, rays.linear[lane + i]);
-    V fPrev = hn::Load(d, rays.fStart + lane), tPrev = r.t0,
-      facePrev = hn::Load(d, rays.faceStart + lane);
+    // The samples cover [from, to]; outside the cell's reach the field keeps the side at t0.
+    const M reached = hn::Eq(hn::Load(d, rays.reached + lane), one);
+    V fPrev = hn::Load(d, rays.fStart + lane), tPrev = r.from,
+      facePrev = hn::IfThenElse(reached, hn::Load(d, rays.faceFrom + lane),
+                                hn::Load(d, rays.faceStart + lane));
     V steps = one, lo = zero, hi = zero, positiveLo = zero;
     M found = hn::FirstN(d, 0);  // none
-    const V span = hn::Sub(r.t1, r.t0);
+    const V span = hn::Sub(r.to, r.from);
     for (int i = 1; i <= int(mostSteps); ++i) {
       const M live = hn::AndNot(found, hn::And(searched, hn::Le(hn::Set(d, float(i)), linear)));
       if (hn::AllFalse(d, live)) break;
-      const V t = hn::Add(r.t0, hn::Div(hn::Mul(span, hn::Set(d, float(i))), linear));
+      const V t = hn::Add(r.from, hn::Div(hn::Mul(span, hn::Set(d, float(i))), linear));
       Projected where;
       const V f = Field(d, maps, type, cells, At(r, t), where);
       steps = hn::Add(steps, hn::IfThenElseZero(live, one));
@@ -429,6 +435,13 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
       found = hn::Or(found, hit);
       fPrev = hn::IfThenElse(moved, f, fPrev);
       tPrev = hn::IfThenElse(moved, t, tPrev);
+    }
+    // The field where the ray leaves, past the reach, for the next cell (crossesAtFace).
+    const M pastReach = hn::AndNot(found, hn::And(searched, hn::Lt(r.to, r.t1)));
+    if (!hn::AllFalse(d, pastReach)) {
+      Projected unused;
+      fPrev = hn::IfThenElse(pastReach, Field(d, maps, type, cells, At(r, r.t1), unused), fPrev);
+      steps = hn::Add(steps, hn::IfThenElseZero(pastReach, one));
     }
     hn::Store(fPrev, d, rays.fEnd + lane);
     Projected where{zero, zero, zero, zero};

@@ -66,10 +66,11 @@ struct CellReach {
   Vec3f hi() const {
     return Vec3f(float(words[0] >> 24), float(words[1] & 255u), float((words[1] >> 8) & 255u)) / 255.0f;
   }
-  /// Whether the segment origin + t direction, t in [t0, t1] (unit-cell coordinates), meets the box:
-  /// the slab test of core/aabb.h, written as the shader's reachesCell is.
+  /// Narrows [t0, t1] to the part of the segment origin + t direction (unit-cell coordinates)
+  /// inside the box; false when none is. The slab test of core/aabb.h, written as the shader's
+  /// clipToReach is.
   template <Real T>
-  bool reaches(const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
+  bool clip(const Vec3<T>& origin, const Vec3<T>& direction, T& t0, T& t1) const {
     const Vec3f l = lo(), h = hi();
     for (int a = 0; a < 3; ++a) {
       if (l[a] > h[a]) return false;  // the empty box
@@ -85,6 +86,11 @@ struct CellReach {
       if (t0 > t1) return false;
     }
     return true;
+  }
+  /// Whether the segment, t in [t0, t1], meets the box.
+  template <Real T>
+  bool reaches(const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
+    return clip(origin, direction, t0, t1);
   }
 };
 static_assert(sizeof(CellReach) == 8);

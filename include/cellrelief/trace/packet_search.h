@@ -52,20 +52,25 @@ struct PacketRays {
   alignas(64) float ox[kPacketLanes], oy[kPacketLanes], oz[kPacketLanes];
   alignas(64) float dx[kPacketLanes], dy[kPacketLanes], dz[kPacketLanes];
   alignas(64) float t0[kPacketLanes], t1[kPacketLanes];  ///< the segment inside the cell
+  /// The part of it within the cell's reach (ReliefTracer::clipToReach), which the linear samples
+  /// cover, and whether there is one (1); without one, [t0, t1].
+  alignas(64) float from[kPacketLanes], to[kPacketLanes], reached[kPacketLanes];
   // packetEnterCell: the field where the ray enters, where that point projects, and the
-  // footprint of the segment on the maps in face units (ReliefTracer::linearBinarySearch).
+  // footprint of [from, to] on the maps in face units, from the face `from` projects onto
+  // (ReliefTracer::linearBinarySearch).
   alignas(64) float fStart[kPacketLanes], faceStart[kPacketLanes];
   alignas(64) float uStart[kPacketLanes], vStart[kPacketLanes], footprint[kPacketLanes];
+  alignas(64) float faceFrom[kPacketLanes];
   // packetSearchCell, in: linear samples per lane (0: the lane is not searched).
   alignas(64) float linear[kPacketLanes];
   // packetSearchCell, out: a crossing found (1) or not (0); the hit's t, face and face
-  // coordinates; field evaluations in the cell; the field at the last sample when nothing is hit.
+  // coordinates; field evaluations in the cell; the field at t1 when nothing is hit.
   alignas(64) float found[kPacketLanes], tHit[kPacketLanes], face[kPacketLanes];
   alignas(64) float u[kPacketLanes], v[kPacketLanes], steps[kPacketLanes], fEnd[kPacketLanes];
 };
 
-/// Fills fStart, faceStart, uStart, vStart and footprint for the first `count` lanes (lanes past
-/// it read no maps; their outputs are unspecified).
+/// Fills fStart, faceStart, uStart, vStart, footprint and faceFrom for the first `count` lanes
+/// (lanes past it read no maps; their outputs are unspecified).
 void packetEnterCell(const PacketMaps& maps, PacketRays& rays);
 
 /// The linear search (rays.linear samples per lane) and the binary refinement (binarySteps) of

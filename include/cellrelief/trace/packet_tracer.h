@@ -251,6 +251,10 @@ class ReliefPacketTracer {
       packet.dx[l] = d.x, packet.dy[l] = d.y, packet.dz[l] = d.z;
       packet.t0[l] = s.walk->tEntry();
       packet.t1[l] = s.walk->tExit();
+      packet.from[l] = packet.t0[l];
+      packet.to[l] = packet.t1[l];
+      packet.reached[l] = mReference.clipToReach(cellOf(key), o, d, packet.from[l], packet.to[l]) ? 1 : 0;
+      if (packet.reached[l] == 0) packet.from[l] = packet.t0[l], packet.to[l] = packet.t1[l];
       packet.linear[l] = 0;
     }
     packetEnterCell(maps, packet);
@@ -265,12 +269,10 @@ class ReliefPacketTracer {
         continue;
       }
       // The fewest steps where the segment cannot meet a change of side (linearBinarySearch).
-      const bool reaches = mReference.segmentReaches(
-          cellOf(lanes[l]), Vec3f(packet.ox[l], packet.oy[l], packet.oz[l]),
-          Vec3f(packet.dx[l], packet.dy[l], packet.dz[l]), packet.t0[l], packet.t1[l]);
-      packet.linear[l] = float(reaches ? Search::linearSteps(mReference.options(),
-                                                             double(packet.footprint[l] * float(m.texels - 1)))
-                                       : constants::kLinearStepsOutsideReach);
+      packet.linear[l] = float(packet.reached[l] > 0
+                                   ? Search::linearSteps(mReference.options(),
+                                                         double(packet.footprint[l] * float(m.texels - 1)))
+                                   : constants::kLinearStepsOutsideReach);
     }
     packetSearchCell(maps, mReference.options().binarySteps, packet);
     for (std::size_t l = 0; l < lanes.size(); ++l) {

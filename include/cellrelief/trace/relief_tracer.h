@@ -98,11 +98,13 @@ class ReliefTracer {
   std::size_t accelerationBytes() const {
     return mPyramid.byteSize() + mCellReach.size() * sizeof(relief::CellReach);
   }
-  /// Whether a ray's segment origin + t direction, t in [t0, t1], in the unit frame of cell
-  /// `index` can meet a change of side (relief::CellReach): where it cannot, the search takes
-  /// constants::kLinearStepsOutsideReach steps (the middle and the exit).
-  bool segmentReaches(std::int32_t index, const Vec3<T>& origin, const Vec3<T>& direction, T t0, T t1) const {
-    return mCellReach[std::size_t(index)].reaches(origin, direction, t0, t1);
+  /// The part of a ray's segment origin + t direction, t in [t0, t1], in the unit frame of cell
+  /// `index` where it can meet a change of side (relief::CellReach): [t0, t1] narrowed to it, or
+  /// false when there is none. Outside it the field keeps one side: the linear search samples
+  /// only the narrowed part, and a segment without one takes constants::kLinearStepsOutsideReach
+  /// steps (the middle and the exit).
+  bool clipToReach(std::int32_t index, const Vec3<T>& origin, const Vec3<T>& direction, T& t0, T& t1) const {
+    return mCellReach[std::size_t(index)].clip(origin, direction, t0, t1);
   }
 
   /// The nearest hit of the ray (world space) within [ray.tmin, ray.tmax]. The direction need not
@@ -229,13 +231,14 @@ class ReliefTracer {
                    const CellFrame& frame, T t0, T t1, T fStart,
                    const projection::FacePoint<T>& fpStart, T& fEnd) const;
 
-  /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at the last
-  /// sample (t1) when nothing is hit. `reaches`: segmentReaches; where the segment cannot meet a
-  /// change of side, constants::kLinearStepsOutsideReach steps.
+  /// fStart, fpStart: the field and projection at t0; fEnd: set to the field at t1 when nothing
+  /// is hit. `reach`: the part of [t0, t1] clipToReach leaves, which the linear samples cover;
+  /// where there is none (!reach.hit), constants::kLinearStepsOutsideReach steps over [t0, t1].
   template <class Codes, class P>
   Hit linearBinarySearch(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
                          const Ray<T>& ray, const CellFrame& frame, T t0, T t1, T fStart,
-                         const projection::FacePoint<T>& fpStart, T& fEnd, bool reaches) const;
+                         const projection::FacePoint<T>& fpStart, T& fEnd,
+                         const RayInterval<T>& reach) const;
 
   /// The binary search between a sample on one side of the surface (lo, where the field's sign
   /// is `positiveLo`) and one on the other (hi): the hit at the last bracket's far end.

@@ -189,18 +189,23 @@ auto ReliefTracer<T, Search>::searchInside(const Codes& codes, const P& proj,
                                            T& fEnd) const -> Hit {
   constexpr bool kSingleDirection = std::is_same_v<P, projection::ParallelProjection<T>> ||
                                     std::is_same_v<P, projection::PlanarProjection<T>>;
-  // A segment that cannot meet a change of side needs no skipping walk either.
-  if (!segmentReaches(index, frame.origin, frame.direction, t0, t1))
-    return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, false);
+  // A segment that cannot meet a change of side needs no skipping walk either; one that can
+  // is searched only within the cell's reach, where the side can change (searchCell reads the
+  // field at t1 after a skipping walk's miss).
+  RayInterval<T> reach{t0, t1, true};
+  reach.hit = clipToReach(index, frame.origin, frame.direction, reach.t0, reach.t1);
+  if (!reach.hit)
+    return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, reach);
   if constexpr (kSingleDirection) {
-    if (mOptions.skipEmptySpace) return skipSearch(codes, proj, r, index, ray, frame, t0, t1);
+    if (mOptions.skipEmptySpace) return skipSearch(codes, proj, r, index, ray, frame, reach.t0, reach.t1);
   } else {
     // Interior cells read an empty line on the centre's side, not the face's: a node that
     // mixes empty and filled texel cells tells no side there, so they keep the sampled search.
+    // The side at reach.t0 is fStart's: outside the reach the field keeps it.
     if (mOptions.skipEmptySpace && mOptions.skipCentralCells && r.configuration != 0)
-      return centralSkipSearch(codes, proj, r, index, ray, frame, t0, t1, fStart);
+      return centralSkipSearch(codes, proj, r, index, ray, frame, reach.t0, reach.t1, fStart);
   }
-  return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, true);
+  return linearBinarySearch(codes, proj, r, index, ray, frame, t0, t1, fStart, fpStart, fEnd, reach);
 }
 
 template <Real T, SearchPolicy Search>
@@ -210,32 +215,37 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
                                                  const Ray<T>& ray, const CellFrame& frame, T t0,
                                                  T t1, T fStart,
                                                  const projection::FacePoint<T>& fpStart,
-                                                 T& fEnd, bool reaches) const -> Hit {
+                                                 T& fEnd, const RayInterval<T>& reach) const -> Hit {
   auto local = [&](T t) { return frame.origin + t * frame.direction; };
   projection::FacePoint<T> fp = fpStart;
-  T fPrev = fStart;
+  // The samples cover [from, to]; outside the cell's reach the field keeps the side read at t0.
+  T from = t0, to = t1;
   int linear = constants::kLinearStepsOutsideReach;
-  if (reaches) {
-    // The footprint on the maps, from four points of the segment; a change of face counts as a
+  int facePrev = fp.face;
+  if (reach.hit) {
+    from = reach.t0;
+    to = reach.t1;
+    // The footprint on the maps, from four points of the span; a change of face counts as a
     // whole face crossed (conservative: the two pieces meet on the shared edge).
+    auto at = [&](T t) { return proj.project(glm::clamp(local(t), Vec3<T>(0), Vec3<T>(1))); };
     T footprint = 0;
-    projection::FacePoint<T> a = fp;
+    projection::FacePoint<T> a = at(from);
+    facePrev = a.face;
     for (int k = 1; k <= constants::kFootprintProbes; ++k) {
-      const projection::FacePoint<T> b = proj.project(glm::clamp(
-          local(t0 + (t1 - t0) * T(k) / T(constants::kFootprintProbes)), Vec3<T>(0), Vec3<T>(1)));
+      const projection::FacePoint<T> b = at(from + (to - from) * T(k) / T(constants::kFootprintProbes));
       footprint += a.face == b.face ? glm::length(b.uv - a.uv) : T(1);
       a = b;
     }
     linear = Search::linearSteps(mOptions, double(footprint * T(mModel.texels - 1)));
   }
-  T tPrev = t0;
+  T fPrev = fStart;
+  T tPrev = from;
   std::uint32_t steps = 1;
   // In a cell with a hole's rim, a step between an empty line and one with surface is no
   // crossing: the empty line may look through the hole (CellRecord::kOpenSurface).
   const bool open = r.openSurface();
-  int facePrev = fp.face;
   for (int i = 1; i <= linear; ++i) {
-    const T t = t0 + (t1 - t0) * T(i) / T(linear);
+    const T t = from + (to - from) * T(i) / T(linear);
     const T f = field(codes, proj, r, local(t), fp);
     ++steps;
     // Nor is a step across a planar cell's mid-plane: each half reads its own face, and its side
@@ -248,6 +258,12 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
       return refineCrossing(codes, proj, r, index, ray, frame, tPrev, t, fPrev > 0, steps);
     fPrev = f;
     tPrev = t;
+  }
+  // The next cell weighs the field where the ray leaves (crossesAtFace): read there, past the
+  // reach, with the side the last sample has.
+  if (to < t1) {
+    fPrev = field(codes, proj, r, local(t1), fp);
+    ++steps;
   }
   fEnd = fPrev;
   return missAfter(steps);
