@@ -418,6 +418,13 @@ vec3 localPoint(float t) { return gLocalOrigin + t * gLocalDirection; }
 
 // ---- linear + binary search (ReliefTracer::linearBinarySearch) --------------------------------
 
+// ReliefTracer::secantCrossing: where the field crosses zero in the last bracket if it is linear
+// there; the far end where either end reads no distance (an empty line, a value not read).
+float secantCrossing(float lo, float hi, float fLo, float fHi) {
+  if (!(abs(fLo) < CR_EMPTY_FIELD && abs(fHi) < CR_EMPTY_FIELD)) return hi;
+  return lo + (hi - lo) * (fLo / (fLo - fHi));
+}
+
 // relief::CellReach::clip: [t0, t1] narrowed to where the segment can meet a change of side in
 // the cell (the slab test of its 8-bit box, as the CPU writes it); false where it cannot.
 bool clipToReach(inout float t0, inout float t1) {
@@ -467,7 +474,7 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     const float wanted = float(P.steps.x) + P.tuning.x * (footprint * float(gTexels - 1));
     linear = clamp(int(ceil(wanted)), 2, max(2, P.steps.y));
   }
-  float tPrev = from, tCrossing = from;
+  float tPrev = from, tCrossing = from, fCrossing = fPrev;
   uint steps = 1u;
   bool crossed = false;
   for (int i = 1; i <= linear; ++i) {
@@ -482,6 +489,7 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
         !(gOpenSurface && (abs(fPrev) >= CR_EMPTY_FIELD || abs(f) >= CR_EMPTY_FIELD))) {
       crossed = true;
       tCrossing = t;
+      fCrossing = f;
       break;
     }
     fPrev = f;
@@ -497,7 +505,7 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
     return missAfter(steps);
   }
   // The binary search after the loop, not inside it: llvmpipe would run it on every sample.
-  float lo = tPrev, hi = tCrossing, fLo = fPrev;
+  float lo = tPrev, hi = tCrossing, fLo = fPrev, fHi = fCrossing;
   for (int k = 0; k < P.steps.z; ++k) {
     const float mid = 0.5 * (lo + hi);
     const float fm = field(localPoint(mid), fp);
@@ -507,10 +515,12 @@ Hit linearBinarySearch(float t0, float t1, float fStart, FacePoint fpStart, inou
       fLo = fm;
     } else {
       hi = mid;
+      fHi = fm;
     }
   }
-  field(localPoint(hi), fp);
-  return makeHit(hi, fp, steps);
+  const float t = secantCrossing(lo, hi, fLo, fHi);
+  field(localPoint(t), fp);
+  return makeHit(t, fp, steps);
 }
 
 // ---- empty-space skipping (ReliefTracer::skipSearchFace, firstRoot) ----------------------------
@@ -717,20 +727,26 @@ Hit skipSearch(float t0, float t1) {
 
 // ---- empty-space skipping in central cells (ReliefTracer::centralSkipSearch) -----------------
 
-// ReliefTracer::refineCrossing
-Hit refineCrossing(float lo, float hi, bool positiveLo, uint steps) {
+// ReliefTracer::refineCrossing (fLo: CR_NO_FIELD with the side's sign where the walk knows the
+// side at lo, not the field).
+Hit refineCrossing(float lo, float hi, float fLo, float fHi, uint steps) {
   FacePoint fp;
+  const bool positiveLo = fLo > 0.0;
   for (int k = 0; k < P.steps.z; ++k) {
     const float mid = 0.5 * (lo + hi);
     const float fm = field(localPoint(mid), fp);
     ++steps;
-    if ((fm > 0.0) == positiveLo)
+    if ((fm > 0.0) == positiveLo) {
       lo = mid;
-    else
+      fLo = fm;
+    } else {
       hi = mid;
+      fHi = fm;
+    }
   }
-  field(localPoint(hi), fp);
-  return makeHit(hi, fp, steps);
+  const float t = secantCrossing(lo, hi, fLo, fHi);
+  field(localPoint(t), fp);
+  return makeHit(t, fp, steps);
 }
 
 // LinearRatio (n0 + n1 t) / (d0 + d1 t) as vec4(n0, n1, d0, d1).
@@ -933,6 +949,7 @@ Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps
       continue;
     }
     float tPrev = t;
+    float fPrev = gWalkPositive ? CR_NO_FIELD : -CR_NO_FIELD;  // the side at t, not the field
     FacePoint fp;
     for (int k = 1; k <= CR_CENTRAL_TEXEL_SAMPLES; ++k) {
       precise float ts = t + (tExit - t) * float(k) / float(CR_CENTRAL_TEXEL_SAMPLES);
@@ -941,11 +958,12 @@ Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps
       if (gOpenSurface && abs(f) >= CR_EMPTY_FIELD) {
         gWalkKnown = false;
       } else {
-        if (gWalkKnown && (f > 0.0) != gWalkPositive) return refineCrossing(tPrev, ts, gWalkPositive, steps);
+        if (gWalkKnown && (f > 0.0) != gWalkPositive) return refineCrossing(tPrev, ts, fPrev, f, steps);
         gWalkPositive = f > 0.0;
         gWalkKnown = true;
       }
       tPrev = ts;
+      fPrev = f;
     }
     t = tExit;
     x = acrossU ? xBoundary : ratioAt(u, t) * scale;

@@ -410,7 +410,7 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
     V fPrev = hn::Load(d, rays.fStart + lane), tPrev = r.from,
       facePrev = hn::IfThenElse(reached, hn::Load(d, rays.faceFrom + lane),
                                 hn::Load(d, rays.faceStart + lane));
-    V steps = one, lo = zero, hi = zero, positiveLo = zero;
+    V steps = one, lo = zero, hi = zero, fLo = zero, fHi = zero;
     M found = hn::FirstN(d, 0);  // none
     const V span = hn::Sub(r.to, r.from);
     for (int i = 1; i <= int(mostSteps); ++i) {
@@ -431,7 +431,8 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
       const M hit = hn::And(live, crossing), moved = hn::AndNot(crossing, live);
       lo = hn::IfThenElse(hit, tPrev, lo);
       hi = hn::IfThenElse(hit, t, hi);
-      positiveLo = hn::IfThenElse(hit, hn::IfThenElseZero(hn::Gt(fPrev, zero), one), positiveLo);
+      fLo = hn::IfThenElse(hit, fPrev, fLo);
+      fHi = hn::IfThenElse(hit, f, fHi);
       found = hn::Or(found, hit);
       fPrev = hn::IfThenElse(moved, f, fPrev);
       tPrev = hn::IfThenElse(moved, t, tPrev);
@@ -445,21 +446,29 @@ void SearchCell(const PacketMaps& maps, int binarySteps, PacketRays& rays) {
     }
     hn::Store(fPrev, d, rays.fEnd + lane);
     Projected where{zero, zero, zero, zero};
+    V tHit = hi;
     if (!hn::AllFalse(d, found)) {
-      const M loPositive = hn::Gt(positiveLo, zero);
+      const M loPositive = hn::Gt(fLo, zero);
       for (int k = 0; k < binarySteps; ++k) {
         const V mid = hn::Mul(hn::Set(d, 0.5f), hn::Add(lo, hi));
         Projected unused;
-        const M positive = hn::Gt(Field(d, maps, type, cells, At(r, mid), unused), zero);
-        const M toLo = hn::Not(hn::Xor(positive, loPositive));
-        lo = hn::IfThenElse(hn::And(found, toLo), mid, lo);
-        hi = hn::IfThenElse(hn::AndNot(toLo, found), mid, hi);
+        const V fm = Field(d, maps, type, cells, At(r, mid), unused);
+        const M toLo = hn::Not(hn::Xor(hn::Gt(fm, zero), loPositive));
+        const M moveLo = hn::And(found, toLo), moveHi = hn::AndNot(toLo, found);
+        lo = hn::IfThenElse(moveLo, mid, lo);
+        fLo = hn::IfThenElse(moveLo, fm, fLo);
+        hi = hn::IfThenElse(moveHi, mid, hi);
+        fHi = hn::IfThenElse(moveHi, fm, fHi);
         steps = hn::Add(steps, hn::IfThenElseZero(found, one));
       }
-      Field(d, maps, type, cells, At(r, hi), where);
+      // ReliefTracer::secantCrossing.
+      const M distances = hn::And(hn::Lt(hn::Abs(fLo), emptyField), hn::Lt(hn::Abs(fHi), emptyField));
+      const V secant = hn::Add(lo, hn::Mul(hn::Sub(hi, lo), hn::Div(fLo, hn::Sub(fLo, fHi))));
+      tHit = hn::IfThenElse(distances, secant, hi);
+      Field(d, maps, type, cells, At(r, tHit), where);
     }
     hn::Store(hn::IfThenElseZero(found, one), d, rays.found + lane);
-    hn::Store(hi, d, rays.tHit + lane);
+    hn::Store(tHit, d, rays.tHit + lane);
     hn::Store(where.face, d, rays.face + lane);
     hn::Store(where.u, d, rays.u + lane);
     hn::Store(where.v, d, rays.v + lane);

@@ -240,12 +240,24 @@ class ReliefTracer {
                          const projection::FacePoint<T>& fpStart, T& fEnd,
                          const RayInterval<T>& reach) const;
 
-  /// The binary search between a sample on one side of the surface (lo, where the field's sign
-  /// is `positiveLo`) and one on the other (hi): the hit at the last bracket's far end.
+  /// The binary search between a sample on one side of the surface (lo, field fLo) and one on
+  /// the other (hi, fHi), then secantCrossing in the last bracket. fLo may be kUnreadField with
+  /// the side's sign (a side the skip walk knows without a value).
   template <class Codes, class P>
   Hit refineCrossing(const Codes& codes, const P& proj, const relief::CellRecord& r, std::int32_t index,
-                     const Ray<T>& ray, const CellFrame& frame, T lo, T hi, bool positiveLo,
+                     const Ray<T>& ray, const CellFrame& frame, T lo, T hi, T fLo, T fHi,
                      std::uint32_t steps) const;
+
+  /// A field value not read (beyond every real one and every empty line's).
+  static constexpr T kUnreadField = std::numeric_limits<T>::infinity();
+  /// Where the field crosses zero in the bracket [lo, hi] (fLo and fHi of opposite sides) if it
+  /// is linear between them: one secant step, which leaves a small fraction of the bracket's
+  /// error for no field read (the bisections halve it per read). The far end, as the plain
+  /// binary search ends, where either end reads no distance (an empty line, a value not read).
+  static T secantCrossing(T lo, T hi, T fLo, T fHi) {
+    if (!(std::abs(fLo) < kEmptyField && std::abs(fHi) < kEmptyField)) return hi;
+    return lo + (hi - lo) * (fLo / (fLo - fHi));
+  }
 
   /// The least distance code under a pyramid node; level 0 (a texel cell, not stored) from its
   /// four samples, empty when any of them is (as the tracer reads it).

@@ -255,7 +255,7 @@ auto ReliefTracer<T, Search>::linearBinarySearch(const Codes& codes, const P& pr
     const bool otherHalf = std::is_same_v<P, projection::PlanarProjection<T>> && fp.face != facePrev;
     facePrev = fp.face;
     if (!otherHalf && (fPrev > 0) != (f > 0) && !(open && (isEmptyField(fPrev) || isEmptyField(f))))
-      return refineCrossing(codes, proj, r, index, ray, frame, tPrev, t, fPrev > 0, steps);
+      return refineCrossing(codes, proj, r, index, ray, frame, tPrev, t, fPrev, f, steps);
     fPrev = f;
     tPrev = t;
   }
@@ -274,18 +274,20 @@ template <class Codes, class P>
 auto ReliefTracer<T, Search>::refineCrossing(const Codes& codes, const P& proj,
                                              const relief::CellRecord& r, std::int32_t index,
                                              const Ray<T>& ray, const CellFrame& frame, T lo, T hi,
-                                             bool positiveLo, std::uint32_t steps) const -> Hit {
+                                             T fLo, T fHi, std::uint32_t steps) const -> Hit {
   auto local = [&](T t) { return frame.origin + t * frame.direction; };
   projection::FacePoint<T> fp;
+  const bool positiveLo = fLo > 0;
   for (int k = 0; k < mOptions.binarySteps; ++k) {
     const T mid = T(0.5) * (lo + hi);
     const T fm = field(codes, proj, r, local(mid), fp);
     ++steps;
-    if ((fm > 0) == positiveLo) lo = mid;
-    else hi = mid;
+    if ((fm > 0) == positiveLo) lo = mid, fLo = fm;
+    else hi = mid, fHi = fm;
   }
-  field(codes, proj, r, local(hi), fp);
-  return makeHit(index, ray, hi, fp, steps);
+  const T t = secantCrossing(lo, hi, fLo, fHi);
+  field(codes, proj, r, local(t), fp);
+  return makeHit(index, ray, t, fp, steps);
 }
 
 template <Real T, SearchPolicy Search>
@@ -614,6 +616,8 @@ auto ReliefTracer<T, Search>::centralSkipFace(const Codes& codes, const P& proj,
     }
     // A texel cell the bound cannot skip: sample it.
     T tPrev = t;
+    // The walk knows the side at t, not the field: a value not read, of that side's sign.
+    T fPrev = side.positive ? kUnreadField : -kUnreadField;
     projection::FacePoint<T> fp;
     for (int k = 1; k <= constants::kCentralTexelSamples; ++k) {
       const T ts = t + (tExit - t) * T(k) / T(constants::kCentralTexelSamples);
@@ -623,10 +627,11 @@ auto ReliefTracer<T, Search>::centralSkipFace(const Codes& codes, const P& proj,
         side.known = false;
       } else {
         if (side.known && (f > 0) != side.positive)
-          return refineCrossing(codes, proj, r, index, ray, frame, tPrev, ts, side.positive, steps);
+          return refineCrossing(codes, proj, r, index, ray, frame, tPrev, ts, fPrev, f, steps);
         side = {f > 0, true};
       }
       tPrev = ts;
+      fPrev = f;
     }
     moveTo(tExit, acrossU, acrossV);
     level = std::min(level + 1, top);

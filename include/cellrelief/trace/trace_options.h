@@ -16,7 +16,7 @@ struct TraceOptions {
   int minLinearSteps = 4;      ///< linear samples per cell for a ray along the projection direction
   int maxLinearSteps = 64;     ///< at most, for a ray grazing the face
   float stepsPerTexel = 1.5f;  ///< linear samples per texel the ray's projection crosses
-  int binarySteps = 8;      ///< refinement after the linear search (1 / 256 of a linear step)
+  int binarySteps = 8;      ///< bisections after the linear search, then one secant step
   bool skipEmptySpace = true;  ///< min-pyramid skipping and exact texel tests in parallel/planar cells
   /// The same pyramid in perspective and axial cells (with skipEmptySpace; not in interior cells):
   /// nodes the ray provably stays in front of are skipped, the rest sampled per texel.
