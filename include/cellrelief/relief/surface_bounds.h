@@ -46,8 +46,8 @@ inline constexpr double kSurfaceBoundsMarginSamples = 0.5;
 /// (rounded outwards, clipped to the cell), two 32-bit words as the GPU reads them: lo x, y, z and
 /// hi x in the bytes of the first, hi y and z in the low bytes of the second. A ray's segment in
 /// the cell that misses it reads one side of the surface all along, so the tracers take the
-/// fewest linear steps there (trace::constants::kLinearStepsOutsideReach: the middle and the
-/// exit, which carries the side on), not a search.
+/// fewest linear steps there (trace::constants::kLinearStepsOutsideReach: the exit, which
+/// carries the side on), not a search.
 struct CellReach {
   std::uint32_t words[2] = {0x00ffffffu, 0};  ///< the empty box: lo 255 > hi 0
 

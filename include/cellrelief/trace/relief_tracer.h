@@ -102,7 +102,7 @@ class ReliefTracer {
   /// `index` where it can meet a change of side (relief::CellReach): [t0, t1] narrowed to it, or
   /// false when there is none. Outside it the field keeps one side: the linear search samples
   /// only the narrowed part, and a segment without one takes constants::kLinearStepsOutsideReach
-  /// steps (the middle and the exit).
+  /// steps (its exit).
   bool clipToReach(std::int32_t index, const Vec3<T>& origin, const Vec3<T>& direction, T& t0, T& t1) const {
     return mCellReach[std::size_t(index)].clip(origin, direction, t0, t1);
   }

@@ -56,9 +56,9 @@ inline constexpr float kNearFaceSamples = 2.0f;
 /// Points of the segment (beyond its start) that measure its footprint on the maps.
 inline constexpr int kFootprintProbes = 3;
 /// Linear steps in a segment that misses its cell's reach (relief::CellReach), where the field
-/// keeps one side: its middle and its exit, which carries the side on (the fewest a search
-/// policy gives).
-inline constexpr int kLinearStepsOutsideReach = 2;
+/// keeps one side: its exit, which carries the side on (and would still show a change of side
+/// the reach had missed; a step in the middle, as the search policies' fewest, found none).
+inline constexpr int kLinearStepsOutsideReach = 1;
 /// The skip walk's floor on each advance, against rounding stalls (segment parameter units).
 inline constexpr float kSkipProgress = 1e-6f;
 /// The skip walk's nudge across node boundaries, in ulps of the coordinate.
