@@ -299,11 +299,14 @@ int run(int argc, char** argv) {
     for (int n : grids)
       for (int texels : texelChoices) {
         const std::vector<int> skips = kPackets ? std::vector<int>{2, 1, 0, 3} : std::vector<int>{2, 1, 0};
-        for (int skip : skips) sweep.push_back({n, texels, 4, 64, 8, skip});
+        // Linear steps (fewest, most) and bisections; three bisections, because the secant step
+        // after them leaves the error of more.
+        struct Search { int minLinear, maxLinear, binary; };
+        const std::vector<Search> searches =
+            quick ? std::vector<Search>{{4, 64, 8}} : std::vector<Search>{{4, 64, 8}, {2, 32, 6}, {2, 32, 3}};
+        for (const Search& search : searches)
+          for (int skip : skips) sweep.push_back({n, texels, search.minLinear, search.maxLinear, search.binary, skip});
         if (!quick) {
-          for (int skip : skips) sweep.push_back({n, texels, 2, 32, 6, skip});
-          // Three bisections: the secant step after them leaves the error of more.
-          for (int skip : skips) sweep.push_back({n, texels, 2, 32, 3, skip});
           // 8-bit distances: half the bytes, for the memory curve.
           sweep.push_back({n, texels, 4, 64, 8, 2, 8});
         }

@@ -249,12 +249,12 @@ class ReliefPacketTracer {
       const Vec3f o = (s.ray.origin - c.originWS) / cellSize, d = s.ray.direction / cellSize;
       packet.ox[l] = o.x, packet.oy[l] = o.y, packet.oz[l] = o.z;
       packet.dx[l] = d.x, packet.dy[l] = d.y, packet.dz[l] = d.z;
-      packet.t0[l] = s.walk->tEntry();
-      packet.t1[l] = s.walk->tExit();
-      packet.from[l] = packet.t0[l];
-      packet.to[l] = packet.t1[l];
-      packet.reached[l] = mReference.clipToReach(cellOf(key), o, d, packet.from[l], packet.to[l]) ? 1 : 0;
-      if (packet.reached[l] == 0) packet.from[l] = packet.t0[l], packet.to[l] = packet.t1[l];
+      const float t0 = s.walk->tEntry(), t1 = s.walk->tExit();
+      float from = t0, to = t1;
+      const bool reached = mReference.clipToReach(cellOf(key), o, d, from, to);
+      packet.t0[l] = t0, packet.t1[l] = t1;
+      packet.from[l] = reached ? from : t0, packet.to[l] = reached ? to : t1;
+      packet.reached[l] = reached ? 1 : 0;
       packet.linear[l] = 0;
     }
     packetEnterCell(maps, packet);
