@@ -3,8 +3,11 @@
 // TriangleBvh: on segments inside grid cells of a real mesh and a procedural one, on segments
 // lying in the planes of an axis-aligned cube's faces (where a plane test with too little slack
 // would drop the face), and on segments that leave the box, both queries give the same nearest
-// hit, the same any-hit answer, and the same answer when the nearest triangle is skipped.
+// hit, the same any-hit answer, and the same answer when the nearest triangle is skipped. The
+// one-descent query of the conversion (closestHitAndNext: the nearest hit and whether the ray
+// crosses again past it) gives what the two separate queries give.
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -28,6 +31,31 @@ TriangleMesh unitCube() {
     m.triangles.emplace_back(q[0], q[2], q[3]);
   }
   return m;
+}
+
+/// Where a second hit may start past a first at t (the conversion's rule, pastFirstHit).
+double pastFirst(double t) { return t * (1 + 1e-9) + 1e-9; }
+
+/// What closestHitAndNext answers, from the two queries it replaces: the nearest hit, then any
+/// hit in [pastFirst(t), within).
+template <class Surface>
+FirstAndNextHit<double> twoQueries(const Surface& surface, const Rayd& ray, double within) {
+  FirstAndNextHit<double> out{surface.closestHit(ray), false};
+  if (!out.first.valid()) return out;
+  Rayd rest = ray;
+  rest.tmin = pastFirst(out.first.t);
+  rest.tmax = within;
+  out.next = rest.tmin < rest.tmax && surface.anyHit(rest);
+  return out;
+}
+
+template <class Surface>
+void expectSameFirstAndNext(const Surface& surface, const Rayd& ray, double within, const std::string& where) {
+  const FirstAndNextHit<double> expected = twoQueries(surface, ray, within);
+  const FirstAndNextHit<double> got = surface.closestHitAndNext(ray, within, pastFirst);
+  ASSERT_EQ(got.first.valid(), expected.first.valid()) << where;
+  EXPECT_EQ(got.first.t, expected.first.t) << where;
+  EXPECT_EQ(got.next, expected.next) << where;
 }
 
 struct Agreement {
@@ -75,6 +103,10 @@ Agreement compare(const TriangleMesh& mesh, int n, int perBox, std::uint32_t see
           EXPECT_EQ(hit.valid(), expected.valid())
               << "cell " << i << " " << j << " " << k << ", segment " << s;
           EXPECT_EQ(inBox.anyHit(ray), whole.anyHit(ray));
+          // The one-descent query, as the conversion asks it: a line's first hit, past its end too.
+          const double within = s % 2 ? 1.0 : 0.6;
+          expectSameFirstAndNext(whole, ray, within, "whole tree, segment " + std::to_string(s));
+          expectSameFirstAndNext(inBox, ray, within, "in the box, segment " + std::to_string(s));
           if (!expected.valid() || !hit.valid()) continue;
           EXPECT_EQ(hit.t, expected.t);
           EXPECT_EQ(inBox.anyHit(ray, expected.primId), whole.anyHit(ray, expected.primId));
@@ -135,6 +167,39 @@ TEST(TrianglesInBox, AgreesFarFromTheOriginAndAtTinyScales) {
     const Agreement got = compare(torus, 16, 20, 5);
     EXPECT_GT(got.hits, got.segments / 20) << scale << " " << offset;
     EXPECT_GT(got.local, got.cellsWithTriangles / 2);
+  }
+}
+
+/// More hits on one ray than closestHitAndNext records: 24 copies of one square at z = 0.5 (a
+/// mesh with duplicated faces), with and without another square at z = 0.8. Rays through them meet
+/// the copies first; whether they cross again is then answered by the separate query, exactly.
+TEST(ClosestHitAndNext, AgreesWithTwoQueriesWhenARayMeetsMoreHitsThanItRecords) {
+  for (const bool secondSheet : {false, true}) {
+    TriangleMesh m;
+    const auto square = [&](float z) {
+      const auto first = std::uint32_t(m.positions.size());
+      m.positions.insert(m.positions.end(), {{0, 0, z}, {1, 0, z}, {1, 1, z}, {0, 1, z}});
+      m.triangles.emplace_back(first, first + 1, first + 2);
+      m.triangles.emplace_back(first, first + 2, first + 3);
+    };
+    for (int copy = 0; copy < 24; ++copy) square(0.5f);
+    if (secondSheet) square(0.8f);
+    std::vector<Vec3d> positions(m.positions.begin(), m.positions.end());
+    const TriangleBvh<double> whole(positions, m.triangles);
+    const TrianglesInBox<double> inBox(whole, Aabbd(Vec3d(0), Vec3d(1)));
+    ASSERT_LE(inBox.triangleCount(), TrianglesInBox<double>::kMaxTriangles);
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> u(0.05, 0.95);
+    int crossingAgain = 0;
+    for (int s = 0; s < 500; ++s) {
+      const Vec3d from(u(random), u(random), 0.01), to(u(random), u(random), 0.99);
+      const Rayd ray(from, to - from, 0.0, 1.0);
+      const std::string where = "second sheet " + std::to_string(secondSheet) + ", ray " + std::to_string(s);
+      expectSameFirstAndNext(whole, ray, 1.0, where);
+      expectSameFirstAndNext(inBox, ray, 1.0, where);
+      crossingAgain += whole.closestHitAndNext(ray, 1.0, pastFirst).next;
+    }
+    EXPECT_EQ(crossingAgain, secondSheet ? 500 : 0);
   }
 }
 

@@ -126,14 +126,14 @@ class BoxBvh {
   template <class Visit>
   void traverse(const Ray<T>& ray, T& tmax, Visit&& visit) const {
     if (mNodes.empty()) return;
+    const RaySlabs slabs(ray);
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = mNodes[stack[--top]];
-      Ray<T> clipped = ray;
-      clipped.tmax = tmax;
-      if (!intersect(clipped, node.box).hit) continue;
+      T entry;
+      if (!slabs.enters(node.box, ray.tmin, tmax, entry)) continue;
       if (node.count > 0) {
         for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
           if (visit(i, tmax)) return;
@@ -152,13 +152,8 @@ class BoxBvh {
   template <class Visit>
   void traverseNearFirst(const Ray<T>& ray, T& tmax, Visit&& visit) const {
     if (mNodes.empty()) return;
-    const auto enters = [&](const Node& node, T& entry) {
-      Ray<T> clipped = ray;
-      clipped.tmax = tmax;
-      const RayInterval<T> span = intersect(clipped, node.box);
-      entry = span.t0;
-      return span.hit;
-    };
+    const RaySlabs slabs(ray);
+    const auto enters = [&](const Node& node, T& entry) { return slabs.enters(node.box, ray.tmin, tmax, entry); };
     std::pair<T, std::uint32_t> stack[64];
     int top = 0;
     T rootEntry;
@@ -244,6 +239,36 @@ class BoxBvh {
   }
 
  private:
+  /// A ray set up once for the many box tests of a descent: the slab test of intersect() (the
+  /// same planes, products and rounding margin, so the same boxes are entered) without its
+  /// branches. Each axis' near plane is chosen by the sign of the inverse direction; an axis the
+  /// ray runs parallel to gives +-infinity (origin off the slab: no entry) or NaN (origin on a
+  /// plane of it), which the comparisons below ignore: inside the closed slab, no constraint.
+  class RaySlabs {
+   public:
+    explicit RaySlabs(const Ray<T>& ray) : mOrigin(ray.origin), mInv(ray.invDirection) {
+      for (int a = 0; a < 3; ++a) mNearIsMax[a] = std::signbit(mInv[a]);
+    }
+    /// Whether the ray meets `box` within [tmin, tmax]; entry: where it enters.
+    bool enters(const Aabb<T>& box, T tmin, T tmax, T& entry) const {
+      constexpr T kFarMargin = T(1) + 2 * roundingGamma<T>(3);
+      for (int a = 0; a < 3; ++a) {
+        const T nearPlane = mNearIsMax[a] ? box.max[a] : box.min[a];
+        const T farPlane = mNearIsMax[a] ? box.min[a] : box.max[a];
+        const T tNear = (nearPlane - mOrigin[a]) * mInv[a];
+        const T tFar = (farPlane - mOrigin[a]) * mInv[a] * kFarMargin;
+        tmin = tNear > tmin ? tNear : tmin;
+        tmax = tFar < tmax ? tFar : tmax;
+      }
+      entry = tmin;
+      return tmin <= tmax;
+    }
+
+   private:
+    Vec3<T> mOrigin, mInv;
+    bool mNearIsMax[3];
+  };
+
   /// A primitive while the tree is built: its centroid travels with its id, so the split reads
   /// contiguous memory instead of gathering a centroid per comparison (the same comparisons in
   /// the same order as on the ids alone, so the same tree).
@@ -290,6 +315,77 @@ class BoxBvh {
   std::vector<Node> mNodes;
   std::vector<std::uint32_t> mIds;
 };
+
+/// A ray's nearest hit, and whether it meets the triangles again past it: a second crossing of
+/// the surface, which a projection line cannot store (see closestHitAndNext).
+template <Real T>
+struct FirstAndNextHit {
+  Hit<T> first;       ///< as closestHit's
+  bool next = false;  ///< another hit lies in [after(first.t), within)
+};
+
+namespace detail {
+
+/// The hits one closestHitAndNext query meets, in any order: keeps the nearest, and the t of the
+/// others while it can (a ray crosses a surface a few times). A recorded hit past after(first) and
+/// before `within` answers "next"; nothing beyond it can change the answer (a nearer first hit
+/// keeps it past), so the search stops there, and until one is found it runs on to `within`.
+/// When more hits come than it keeps, the caller's separate query answers instead.
+template <Real T, class After>
+class NextHitSearch {
+ public:
+  NextHitSearch(T tmax, T within, const After& after) : mTmax(tmax), mWithin(within), mAfter(after) {
+    mResult.first.t = tmax;
+  }
+
+  /// Takes a triangle's hit; returns how far hits still matter.
+  T take(const Hit<T>& hit) {
+    if (hit.t < mResult.first.t) mResult.first = hit;
+    if (mCount < kCapacity) mFound[mCount++] = hit.t;
+    else mOverflow = true;
+    return bound();
+  }
+
+  /// The answer; `anyHitFrom(t)` is the separate query for a hit in [t, within), asked only
+  /// when hits were not all recorded and none recorded answers.
+  template <class AnyHitFrom>
+  FirstAndNextHit<T> result(AnyHitFrom&& anyHitFrom) {
+    FirstAndNextHit<T> out = mResult;
+    out.next = nearestNext() < mWithin;
+    if (!out.next && mOverflow && out.first.valid()) {
+      const T from = mAfter(out.first.t);
+      out.next = from < mWithin && anyHitFrom(from);
+    }
+    if (!out.first.valid()) out.first.t = std::numeric_limits<T>::infinity();
+    return out;
+  }
+
+ private:
+  static constexpr int kCapacity = 16;
+
+  T nearestNext() const {
+    if (!mResult.first.valid()) return std::numeric_limits<T>::infinity();
+    const T from = mAfter(mResult.first.t);
+    T nearest = std::numeric_limits<T>::infinity();
+    for (int i = 0; i < mCount; ++i)
+      if (mFound[i] >= from && mFound[i] < mWithin) nearest = std::min(nearest, mFound[i]);
+    return nearest;
+  }
+  T bound() const {
+    const T next = nearestNext();
+    if (next < mWithin) return next;
+    return std::min(mTmax, std::max(mResult.first.t, mWithin));
+  }
+
+  T mTmax, mWithin;
+  const After& mAfter;
+  FirstAndNextHit<T> mResult;
+  T mFound[kCapacity];
+  int mCount = 0;
+  bool mOverflow = false;
+};
+
+}  // namespace detail
 
 /// Which sides of its triangles a ray query sees: both, or only the front, where the ray runs
 /// against the winding's normal (a rasterizer's back-face culling; one-sided surfaces such as the
@@ -377,12 +473,34 @@ class TriangleBvh {
     Hit<T> best;
     best.t = ray.tmax;
     T tmax = ray.tmax;
-    mTree.traverse(ray, tmax, [&](std::uint32_t i, T& limit) {
+    mTree.traverseNearFirst(ray, tmax, [&](std::uint32_t i, T& limit) {
       if (mTree.primitiveIds()[i] != skip && intersectPrim(ray, i, best, faces)) limit = best.t;
       return false;
     });
     if (!best.valid()) best.t = std::numeric_limits<T>::infinity();
     return best;
+  }
+
+  /// The nearest hit (as closestHit) and whether the ray meets another triangle at t in
+  /// [after(first.t), within), within <= ray.tmax: a second crossing past the first, found in
+  /// the same descent (the nearer-first order meets the first hits first and the search stops at
+  /// the first crossing past them), where closestHit and then anyHit would walk the tree twice.
+  template <class After>
+  FirstAndNextHit<T> closestHitAndNext(const Ray<T>& ray, T within, const After& after) const {
+    detail::NextHitSearch<T, After> search(ray.tmax, within, after);
+    T tmax = ray.tmax;
+    mTree.traverseNearFirst(ray, tmax, [&](std::uint32_t i, T& limit) {
+      Hit<T> hit;
+      hit.t = limit;
+      if (intersectPrim(ray, i, hit, Faces::Both)) limit = search.take(hit);
+      return false;
+    });
+    return search.result([&](T from) {
+      Ray<T> rest = ray;
+      rest.tmin = from;
+      rest.tmax = within;
+      return anyHit(rest);
+    });
   }
 
  private:
@@ -453,6 +571,27 @@ class TrianglesInBox {
       if (segment.mayCross(plane) && mBvh.triangleId(plane.slot) != skip && intersect(ray, plane.slot, hit))
         return true;
     return false;
+  }
+  /// As TriangleBvh::closestHitAndNext.
+  template <class After>
+  FirstAndNextHit<T> closestHitAndNext(const Ray<T>& ray, T within, const After& after) const {
+    if (mWholeTree) return mBvh.closestHitAndNext(ray, within, after);
+    const Segment segment(ray);
+    if (!segment.within(mBox)) return mBvh.closestHitAndNext(ray, within, after);
+    detail::NextHitSearch<T, After> search(ray.tmax, within, after);
+    T limit = ray.tmax;
+    for (const Plane& plane : mPlanes) {
+      if (!segment.mayCross(plane)) continue;
+      Hit<T> hit;
+      hit.t = limit;
+      if (intersect(ray, plane.slot, hit)) limit = search.take(hit);
+    }
+    return search.result([&](T from) {
+      Ray<T> rest = ray;
+      rest.tmin = from;
+      rest.tmax = within;
+      return anyHit(rest);
+    });
   }
   std::size_t triangleCount() const { return mWholeTree ? mBvh.triangleCount() : mPlanes.size(); }
 

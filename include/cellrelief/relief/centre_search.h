@@ -23,10 +23,20 @@ namespace detail {
 /// Whether the projection line `line` (a segment, t in [0, 1]) meets the surface again past its
 /// first hit at t: a line keeps one distance, so the second crossing is lost and the side past it
 /// misread. `surface`: the mesh's TriangleBvh, or the TrianglesInBox of the line's cell.
+/// Where a second crossing past a first hit at t may begin: past the rounding of the first (a
+/// line through an edge hits both triangles that share it, at t equal but for rounding).
+inline double pastFirstHit(double t) { return t * (1 + 1e-9) + 1e-9; }
+
+/// The first hit of the projection line `line` (a segment, t in [0, 1]) extended to t = `reach`,
+/// and whether the line meets the surface again past it: a line keeps one distance, so the second
+/// crossing is lost and the side past it misread. One query (closestHitAndNext) where a nearest
+/// hit and then an any-hit query past it would descend twice. `surface`: the mesh's TriangleBvh,
+/// or the TrianglesInBox of the line's cell.
 template <class Surface>
-bool crossesAgain(const Surface& surface, Rayd line, double t) {
-  line.tmin = t * (1 + 1e-9) + 1e-9;
-  return line.tmin < line.tmax && surface.anyHit(line);
+FirstAndNextHit<double> firstHitAndCrossingAgain(const Surface& surface, const Rayd& line, double reach) {
+  Rayd extended = line;
+  extended.tmax = reach;
+  return surface.closestHitAndNext(extended, line.tmax, pastFirstHit);
 }
 
 /// The projection line of a face point (cell units) as a world-space segment, t in [0, 1].
@@ -49,8 +59,7 @@ int linesCrossedTwice(const Surface& surface, const projection::CellProjection<d
       for (int a = 0; a < S; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (S - 1), double(b) / (S - 1)));
         const Rayd line = detail::projectionLine(proj, f, onFace, cellMin, h);
-        const Hitd hit = surface.closestHit(line);
-        if (hit.valid() && detail::crossesAgain(surface, line, hit.t) && ++count > limit) return count;
+        if (detail::firstHitAndCrossingAgain(surface, line, line.tmax).next && ++count > limit) return count;
       }
   }
   return count;

@@ -226,15 +226,14 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
       for (int a = 0; a < T; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
         const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
-        Rayd extended = line;
-        extended.tmax = 1 + pastEnd;
-        const Hitd hit = surface.closestHit(extended);
+        const FirstAndNextHit<double> crossings = firstHitAndCrossingAgain(surface, line, 1 + pastEnd);
+        const Hitd& hit = crossings.first;
         if (!hit.valid()) continue;
         const std::size_t k = first + std::size_t(b) * T + a;
         out.distance[k] = float(hit.t * glm::length(out.proj.lineEnd(f, onFace) - onFace));
         if (hit.t <= 1) {
           anyWithinLine = true;
-          if (crossesAgain(surface, line, hit.t)) ++out.linesCrossedTwice;
+          if (crossings.next) ++out.linesCrossedTwice;
         }
         sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                       signals.colors ? &out.color[k] : nullptr);
