@@ -171,6 +171,19 @@ TEST(PacketTracer, AgreesOnEveryInstructionSetAndBlockSizeAndWithoutShading) {
   }
 }
 
+// The working memory a thread keeps between calls (ReliefPacketTracer::Scratch): a call larger
+// than it keeps, then smaller ones on the states the large call left, then the large one again.
+TEST(PacketTracer, AgreesWhenACallTakesMoreRaysThanTheThreadKeeps) {
+  const std::filesystem::path path = test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";
+  CELLRELIEF_REQUIRE_FILE(path);
+  const relief::ReliefModel model = relief::convert(io::readMesh(path.string()), {.gridSize = 16, .texels = 9});
+  const ReliefPacketTracer<> packets(model);
+  const std::vector<Rayf> rays = raysFor(model, 256, 1000);
+  ASSERT_GT(rays.size(), ReliefPacketTracer<>::kKeptRays);
+  for (const std::size_t block : {rays.size(), std::size_t(4096), std::size_t(37), rays.size()})
+    EXPECT_EQ(compare(packets, rays, block).failures, 0) << "blocks of " << block;
+}
+
 TEST(PacketTracer, RefusesMismatchedSpans) {
   const std::filesystem::path path =
       test::dataDir() / "meshes/small/fertility_9k__libigl-tutorial-data.off";

@@ -99,6 +99,10 @@ class ReliefPacketTracer {
     model().visitDistanceCodes([&](const auto& codes) { traceStream(codes, rays, hits, shade); });
   }
 
+  /// The most rays per intersect() call whose working memory the calling thread keeps for the
+  /// next call (see Scratch); larger calls allocate their own.
+  static constexpr std::size_t kKeptRays = std::size_t(1) << 16;
+
  private:
   /// One ray of the stream: ReliefTracer::traceWith's locals, kept between the rounds.
   struct RayState {
@@ -111,6 +115,25 @@ class ReliefPacketTracer {
   };
 
   using Accessor = openvdb::Int32Grid::ConstUnsafeAccessor;
+
+  /// A call's working memory: the rays' states and the sort keys of the rays standing in grey
+  /// cells. Kept by the thread between calls (start() sets every field a ray's trace reads):
+  /// allocated and value-initialized afresh on every call (half a megabyte per block of 4,096
+  /// rays) it cost a tenth of the time at N = 1 (Igea, T = 257, 2-32 steps, one thread, best of
+  /// three: 5.17 -> 5.73 Mrays/s). Calls of more than kKeptRays rays use memory of their own,
+  /// freed on return, so a thread keeps at most about 8 MB.
+  struct Scratch {
+    std::vector<RayState> states;
+    std::vector<std::uint64_t> pending, next;
+  };
+  /// Sized for `rays`, with no sort keys.
+  static void prepare(Scratch& s, std::size_t rays) {
+    if (s.states.size() < rays) s.states.resize(rays);
+    s.pending.clear();
+    s.next.clear();
+    s.pending.reserve(rays);
+    s.next.reserve(rays);
+  }
 
   /// Walks on to the next grey cell, from the walk's current cell (white and black cells hold no
   /// surface: they keep the side, and no field was read at their faces). False: none is left.
@@ -127,6 +150,8 @@ class ReliefPacketTracer {
   /// The ray set up as traceWith sets it up; false when it meets no grey cell (hit stays a miss).
   bool start(const Rayf& input, RayState& s, Accessor& acc) const {
     s.ray = input;
+    s.exitField = std::numeric_limits<float>::infinity();
+    s.steps = 0;
     const std::optional<RayInterval<float>> span = mReference.prepareRay(s.ray);
     if (!span) return false;
     const relief::ReliefModel& m = model();
@@ -191,10 +216,13 @@ class ReliefPacketTracer {
     auto acc = mReference.cellGrid().getConstUnsafeAccessor();
     const PacketMaps maps = packetMaps(codes);
     const std::size_t vector = std::size_t(packetVectorLanes());
-    std::vector<RayState> states(rays.size());
-    std::vector<std::uint64_t> pending, next;
-    pending.reserve(rays.size());
-    next.reserve(rays.size());
+    thread_local Scratch kept;
+    std::optional<Scratch> own;
+    Scratch& scratch = rays.size() <= kKeptRays ? kept : own.emplace();
+    prepare(scratch, rays.size());
+    const std::span<RayState> states(scratch.states.data(), rays.size());
+    std::vector<std::uint64_t>& pending = scratch.pending;
+    std::vector<std::uint64_t>& next = scratch.next;
     auto stand = [&](std::vector<std::uint64_t>& into, std::uint32_t i) {
       into.push_back(sortKey(mCells[states[i].cell].type, states[i].cell, i));
     };
@@ -223,7 +251,7 @@ class ReliefPacketTracer {
   /// by lane); rays without a hit walk on to their next grey cell and are handed to `walkOn`.
   template <class WalkOn>
   void searchPacket(const PacketMaps& maps, int type, std::span<const std::uint64_t> lanes,
-                    std::size_t vector, std::vector<RayState>& states, std::span<Hit> hits,
+                    std::size_t vector, std::span<RayState> states, std::span<Hit> hits,
                     bool shade, Accessor& acc, WalkOn&& walkOn) const {
     const relief::ReliefModel& m = model();
     const float cellSize = float(m.cellSizeWS);
