@@ -9,11 +9,13 @@
 /// mesh's UVs) are sampled at the same hits when the mesh has them. Parallel over cells with TBB.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include "cellrelief/cells/cell_complex.h"
 #include "cellrelief/core/bvh.h"
@@ -205,6 +207,9 @@ inline void centreInterpolationError(float* distance, int T) {
     }
 }
 
+/// Faces of at least this many samples a side are sampled in parallel rows (sampleFaces).
+inline constexpr int kParallelRowsFrom = 129;
+
 /// Casts the projection line of each sample of each domain face of `out.proj` against the mesh
 /// and keeps the nearest hit (for planar and parallel projections, one past the line's end as
 /// well: kPastLineEndSamples); counts the lines that meet the surface again past it.
@@ -220,9 +225,14 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
     if (!(out.proj.domainFaces() & (1u << f))) continue;
-    bool anyWithinLine = false;
     const std::size_t first = std::size_t(slot) * T * T;
-    for (int b = 0; b < T; ++b)
+    // Rows in parallel, each writing its own samples and counts: a model of one cell (N = 1) is
+    // otherwise one task of the conversion's loop over cells. Small faces stay one task (split,
+    // they made N = 16 conversions 5% to 20% slower).
+    std::vector<int> withinLine(T, 0), crossedTwice(T, 0);
+    const std::size_t rowsPerTask = T >= kParallelRowsFrom ? 8 : std::size_t(T);
+    parallelFor(0, std::size_t(T), [&](std::size_t row) {
+      const int b = int(row);
       for (int a = 0; a < T; ++a) {
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
         const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
@@ -232,12 +242,15 @@ inline void sampleFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& 
         const std::size_t k = first + std::size_t(b) * T + a;
         out.distance[k] = float(hit.t * glm::length(out.proj.lineEnd(f, onFace) - onFace));
         if (hit.t <= 1) {
-          anyWithinLine = true;
-          if (crossings.next) ++out.linesCrossedTwice;
+          withinLine[b] = 1;
+          crossedTwice[b] += crossings.next;
         }
         sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                       signals.colors ? &out.color[k] : nullptr);
       }
+    }, rowsPerTask);
+    const bool anyWithinLine = std::find(withinLine.begin(), withinLine.end(), 1) != withinLine.end();
+    for (const int n : crossedTwice) out.linesCrossedTwice += n;
     if (anyWithinLine) {
       if (options.centreSamples) centreInterpolationError(out.distance.data() + first, T);
       out.present |= std::uint8_t(1u << f);
