@@ -97,7 +97,7 @@ int runConvert(const ConvertCli& o) {
   std::size_t filled = 0;
   for (int l = 0; l < model.layerCount(); ++l)
     for (int b = 0; b < model.texels; ++b)
-      for (int a = 0; a < model.texels; ++a) filled += !model.distanceCodec.isEmpty(model.distanceCode(l, a, b));
+      for (int a = 0; a < model.texels; ++a) filled += model.distanceCodec.hasSurface(model.distanceCode(l, a, b));
   std::printf("grid          N = %d, %zu grey cells\n", model.gridSize, model.cells.size());
   std::printf("domain faces  %d layers of %d x %d samples (%zu filled, %.1f%%)\n", model.layerCount(),
               model.texels, model.texels, filled,

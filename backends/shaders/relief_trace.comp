@@ -81,7 +81,7 @@ struct ModelInfo {
   int pyramidLayerStride;
   int layerCount;
   int openSurface;  // ReliefModel::openSurface()
-  int pad1;
+  int zeroCode;     // DistanceCodec::zeroCode: codes below it are distances before the face
   int levelSize[CR_MAX_PYRAMID_LEVELS];
   int levelOffset[CR_MAX_PYRAMID_LEVELS];
 };
@@ -118,6 +118,7 @@ int gGrid;
 int gTexels;
 float gDistanceScale;
 uint gEmptyCode;
+float gZeroCode;
 // Copies of the model's fields: in llvmpipe every read of a storage buffer by a non-constant
 // index is a per-lane gather, so the inner loops read these instead.
 int gHashOffset;
@@ -159,6 +160,7 @@ void selectModel(int m) {
   gTexels = models[m].texels;
   gDistanceScale = models[m].distanceScale;
   gEmptyCode = uint(models[m].emptyCode);
+  gZeroCode = float(models[m].zeroCode);
   gOpenModel = models[m].openSurface != 0;
   gHashOffset = models[m].hashOffset;
   gHashMask = uint(models[m].hashMask);
@@ -371,11 +373,13 @@ bool stored(int layer, vec2 uv, bool emptyLinesCrossed, out float value) {
     c01 = sampleCode(tile, a0, b0 + 1);
     c11 = sampleCode(tile, a0 + 1, b0 + 1);
   }
-  float d00 = float(c00), d10 = float(c10), d01 = float(c01), d11 = float(c11);
+  // Codes less the zero code (exact in float): distances in code steps, negative before the face.
+  float d00 = float(c00) - gZeroCode, d10 = float(c10) - gZeroCode, d01 = float(c01) - gZeroCode,
+        d11 = float(c11) - gZeroCode;
   const int emptyCount = int(c00 == gEmptyCode) + int(c10 == gEmptyCode) + int(c01 == gEmptyCode) + int(c11 == gEmptyCode);
   if (emptyCount > 0) {
     if (!emptyLinesCrossed || emptyCount == 4) return false;
-    mixedTexel(d00, d10, d01, d11, float(gEmptyCode), emptyCount);
+    mixedTexel(d00, d10, d01, d11, float(gEmptyCode) - gZeroCode, emptyCount);
   }
   const float top = d00 + fx * (d10 - d00);
   const float bottom = d01 + fx * (d11 - d01);
@@ -660,7 +664,7 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
       }
       const float deepest = max(clamp(depth0 + s * dDepth, 0.0, depthLimit),
                                 clamp(depth0 + min(sExit, 1.0) * dDepth, 0.0, depthLimit));
-      if (code >= gEmptyCode || deepest < float(code) * gDistanceScale) {
+      if (code >= gEmptyCode || deepest < (float(code) - gZeroCode) * gDistanceScale) {
         if (gOpenSurface && code >= gEmptyCode) {
           known = false;
         } else {
@@ -682,8 +686,8 @@ Hit skipSearchFace(int face, float t0, float t1, float depthLimit) {
     if (!test) break;
     // A texel cell: depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
     const float s1 = min(sExit, 1.0);
-    const float d00 = float(c00) * gDistanceScale, d10 = float(c10) * gDistanceScale;
-    const float d01 = float(c01) * gDistanceScale, d11 = float(c11) * gDistanceScale;
+    const float d00 = (float(c00) - gZeroCode) * gDistanceScale, d10 = (float(c10) - gZeroCode) * gDistanceScale;
+    const float d01 = (float(c01) - gZeroCode) * gDistanceScale, d11 = (float(c11) - gZeroCode) * gDistanceScale;
     const float ax = x0 - float(ix), ay = y0 - float(iy);
     const float e = d00 - d10 - d01 + d11;
     const float q0 = d00 + (d10 - d00) * ax + (d01 - d00) * ay + e * ax * ay;
@@ -933,7 +937,7 @@ Hit centralSkipFace(int face, int previous, float ta, float tb, inout uint steps
       }
       precise float depthIn = clamp(1.0 - (r0 + r1 * t), 0.0, 1.0), depthOut = clamp(1.0 - (r0 + r1 * tExit), 0.0, 1.0);
       precise float longest = sqrt(longestSquared);
-      precise float deepest = max(depthIn, depthOut) * longest, nearest = float(code) * gDistanceScale;
+      precise float deepest = max(depthIn, depthOut) * longest, nearest = (float(code) - gZeroCode) * gDistanceScale;
       skip = deepest < nearest;
     }
     if (skip) {
@@ -2333,10 +2337,13 @@ bool occludedScene(vec3 o, vec3 d) {
 
 // ---- shading (ReliefTracer::shade, CpuBackend::shade) ------------------------------------------
 
+// DistanceCodec::hasSurface: neither empty nor before the face.
+bool hasSurface(uint code) { return code != gEmptyCode && float(code) >= gZeroCode; }
+
 float sampleDistance(int layer, int a, int b, out bool filled) {
   const uint code = sampleCode(tileOrigin(layer), a, b);
-  filled = code != gEmptyCode;
-  return float(code) / float(gEmptyCode - 1u) * gDistanceMax;
+  filled = hasSurface(code);
+  return (float(code) - gZeroCode) / (float(gEmptyCode - 1u) - gZeroCode) * gDistanceMax;
 }
 
 // The unprojected sample (x, y) of the current cell's face, false where out of range or empty.
@@ -2379,13 +2386,13 @@ void shadeHit(Hit hit, vec3 direction, out vec3 normal, out vec3 color) {
     const vec2 texel = hit.uv * float(gTexels - 1);
     int a = clamp(int(floor(texel.x + 0.5)), 0, gTexels - 1);
     int b = clamp(int(floor(texel.y + 0.5)), 0, gTexels - 1);
-    if (sampleCode(tile, a, b) == gEmptyCode) {
+    if (!hasSurface(sampleCode(tile, a, b))) {
       int best = 0x7fffffff, bestA = a, bestB = b;
       const int radius = CR_SHADE_SEARCH_RADIUS;
       for (int y = max(0, b - radius); y <= min(gTexels - 1, b + radius); ++y)
         for (int x = max(0, a - radius); x <= min(gTexels - 1, a + radius); ++x) {
           const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
-          if (d2 < best && sampleCode(tile, x, y) != gEmptyCode) {
+          if (d2 < best && hasSurface(sampleCode(tile, x, y))) {
             best = d2;
             bestA = x;
             bestB = y;

@@ -272,7 +272,13 @@ HWY_INLINE V Field(D d, const PacketMaps& maps, int type, const LaneCells& cells
   Corners c = maps.gather16         ? GatherCorners16(d, maps, layer, a0, b0)
               : maps.codeBits == 16 ? LoadCorners<std::uint16_t>(d, maps, layer, a0, b0)
                                     : LoadCorners<std::uint8_t>(d, maps, layer, a0, b0);
-  const V empty = hn::Set(d, maps.emptyCode);
+  // Codes less the zero code (exact in float), as ReliefTracer::stored reads them.
+  const V zeroCode = hn::Set(d, maps.zeroCode);
+  c.c00 = hn::Sub(c.c00, zeroCode);
+  c.c10 = hn::Sub(c.c10, zeroCode);
+  c.c01 = hn::Sub(c.c01, zeroCode);
+  c.c11 = hn::Sub(c.c11, zeroCode);
+  const V empty = hn::Set(d, maps.emptyCode - maps.zeroCode);
   const M e00 = hn::Ge(c.c00, empty), e10 = hn::Ge(c.c10, empty), e01 = hn::Ge(c.c01, empty),
           e11 = hn::Ge(c.c11, empty);
   const V emptyCount =

@@ -16,17 +16,22 @@
 namespace cellrelief::relief {
 namespace {
 
-TEST(Conversion, SphereDistancesAreExactPerSample) {
-  // A finely tessellated unit sphere: every reconstructed vertex lies on it, within the
-  // tessellation's sagitta and the 16-bit quantization.
-  TriangleMesh sphere = makeIcosphere(6);
-  sphere.normals.clear();
-  // The deepest point of the tessellation below the unit sphere: 1 - the nearest face plane.
+/// The deepest point of a tessellated unit sphere below the sphere: 1 - the nearest face plane.
+double sagittaOf(const TriangleMesh& sphere) {
   double sagitta = 0;
   for (const Vec3u& t : sphere.triangles) {
     const Vec3d a(sphere.positions[t[0]]), b(sphere.positions[t[1]]), c(sphere.positions[t[2]]);
     sagitta = std::max(sagitta, 1.0 - std::abs(glm::dot(a, glm::normalize(glm::cross(b - a, c - a)))));
   }
+  return sagitta;
+}
+
+TEST(Conversion, SphereDistancesAreExactPerSample) {
+  // A finely tessellated unit sphere: every reconstructed vertex lies on it, within the
+  // tessellation's sagitta and the 16-bit quantization.
+  TriangleMesh sphere = makeIcosphere(6);
+  sphere.normals.clear();
+  const double sagitta = sagittaOf(sphere);
   ConvertReport report;
   const ReliefModel model = convert(sphere, {.gridSize = 8, .texels = 17, .centreSamples = false}, &report);
   EXPECT_EQ(model.gridSize, 8);
@@ -42,6 +47,72 @@ TEST(Conversion, SphereDistancesAreExactPerSample) {
   EXPECT_EQ(model.normalFormat, NormalFormat::None);
   EXPECT_EQ(model.colorFormat, ColorFormat::None);
   EXPECT_EQ(model.byteSize(), model.cells.size() * 24 + std::size_t(model.layerCount()) * 17 * 17 * 2);
+}
+
+TEST(Conversion, InteriorCellsStoreWhereTheSurfaceCrossesAnEmptyLineBeforeTheFace) {
+  // A thick shell (the sphere at N = 8 has interior cells, case 0). Every sample of their layers
+  // has a value: an empty line's continuation outwards meets the sphere at the stored negative
+  // distance, or not within beforeFace(T) (stored at the limit). The reference is analytic: the
+  // tessellation lies between the unit sphere and the sphere 1 - sagitta, so the distance lies
+  // between theirs (lines that graze one and miss the other are left out and counted).
+  TriangleMesh sphere = makeIcosphere(6);
+  sphere.normals.clear();
+  const double sagitta = sagittaOf(sphere);
+  // The first s > 0 with |origin + s u| = radius, or infinity.
+  auto sphereHit = [](const Vec3d& origin, const Vec3d& u, double radius) {
+    const double pb = glm::dot(origin, u), c = glm::dot(origin, origin) - radius * radius;
+    const double disc = pb * pb - c;
+    if (disc < 0) return std::numeric_limits<double>::infinity();
+    const double s0 = -pb - std::sqrt(disc), s1 = -pb + std::sqrt(disc);
+    return s0 > 0 ? s0 : (s1 > 0 ? s1 : std::numeric_limits<double>::infinity());
+  };
+  for (const int bits : {16, 8}) {
+    const int T = 9;
+    const ReliefModel model = convert(sphere, {.gridSize = 8, .texels = T, .distanceBits = bits});
+    const DistanceCodec& codec = model.distanceCodec;
+    ASSERT_GT(codec.zeroCode, 0u);
+    const double reach = detail::beforeFace(T), h = model.cellSizeWS;
+    const double tolerance = 2 * codec.quantizationError() + 1e-6;
+    std::size_t interiorCells = 0, before = 0, atLimit = 0, grazing = 0;
+    double worst = 0;
+    for (const CellRecord& r : model.cells) {
+      if (r.configuration != 0) continue;
+      ++interiorCells;
+      const auto proj = r.projection<double>();
+      const Vec3d cellMin = model.originWS + h * Vec3d(r.ijk());
+      for (int f = 0; f < 6; ++f) {
+        const int layer = r.layerOf(f);
+        if (layer < 0) continue;
+        for (int b = 0; b < T; ++b)
+          for (int a = 0; a < T; ++a) {
+            const std::uint32_t code = model.distanceCode(layer, a, b);
+            ASSERT_FALSE(codec.isEmpty(code)) << "an interior cell's present face has an empty sample";
+            if (codec.hasSurface(code)) continue;
+            ++before;
+            const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
+            const Vec3d origin = cellMin + h * onFace;
+            const Vec3d outwards = glm::normalize(onFace - proj.lineEnd(f, onFace));
+            const double outer = std::min(sphereHit(origin, outwards, 1.0) / h, reach);
+            const double inner = std::min(sphereHit(origin, outwards, 1.0 - sagitta) / h, reach);
+            if ((outer < reach) != (inner < reach)) {
+              ++grazing;
+              continue;
+            }
+            atLimit += outer >= reach;
+            const double d = -double(model.distance(layer, a, b));
+            worst = std::max(worst, std::max(std::min(outer, inner) - d, d - std::max(outer, inner)));
+          }
+      }
+    }
+    std::printf("%d bits: %zu interior cells, %zu samples before their faces (%zu at the limit, %zu grazing); "
+                "worst %.2e cell units outside the bracket (tolerance %.2e)\n", bits, interiorCells, before,
+                atLimit, grazing, worst, tolerance);
+    EXPECT_GT(interiorCells, 0u);
+    EXPECT_GT(before, atLimit + grazing);  // most meet the sphere within reach
+    EXPECT_GT(atLimit, 0u);
+    EXPECT_LT(grazing, before / 20);
+    EXPECT_LT(worst, tolerance);
+  }
 }
 
 TEST(Conversion, CentredSamplesCentreTheInterpolationErrorOnTheSurface) {
@@ -191,6 +262,41 @@ TEST(DistanceCodec, CodesRoundTripWithinHalfAStepAndTheLargestMeansEmpty) {
   EXPECT_EQ((DistanceCodec{.bits = 16, .distanceMax = 0}.scale()), 0.0);
 }
 
+TEST(DistanceCodec, CodesBelowTheZeroCodeAreDistancesBeforeTheFace) {
+  for (const int bits : {8, 16}) {
+    const double before = 0.25;
+    const std::uint32_t zero = DistanceCodec::zeroCodeFor(bits, 0.8, before);
+    const DistanceCodec codec{.bits = bits, .distanceMax = 0.8f, .zeroCode = zero};
+    ASSERT_GT(zero, 0u);
+    EXPECT_LE(codec.distanceMin(), -before);                     // -before is representable
+    EXPECT_GT(codec.distanceMin(), -before - 2 * codec.scale());  // with no more than a step to spare
+    EXPECT_EQ(codec.encode(0.0), zero);
+    EXPECT_EQ(codec.decode(zero), 0.0f);
+    EXPECT_EQ(codec.encode(0.8), codec.maxCode());
+    EXPECT_EQ(codec.encode(-5.0), 0u);  // clamped to distanceMin
+    // However small, a negative distance stays before the face, a positive one at or after it.
+    EXPECT_LT(codec.encode(-1e-9), zero);
+    EXPECT_GE(codec.encode(1e-9), zero);
+    EXPECT_FALSE(codec.hasSurface(codec.encode(-1e-9)));
+    EXPECT_TRUE(codec.hasSurface(codec.encode(0.0)));
+    EXPECT_TRUE(codec.hasSurface(codec.maxCode()));
+    EXPECT_FALSE(codec.hasSurface(codec.emptyCode()));
+    double worst = 0;
+    for (int i = 0; i <= 1000; ++i) {
+      const double d = -before + (0.8 + before) * i / 1000;
+      if (d < 0 && d > -codec.scale()) continue;  // moved below the zero code on purpose
+      worst = std::max(worst, std::abs(double(codec.decode(codec.encode(d))) - d));
+    }
+    EXPECT_LE(worst, codec.quantizationError() + 1e-7) << bits;
+  }
+  // Without distances before the face the zero code is 0 and codes are as before.
+  EXPECT_EQ(DistanceCodec::zeroCodeFor(16, 0.8, 0.0), 0u);
+  const DistanceCodec plain{.bits = 16, .distanceMax = 0.8f};
+  EXPECT_EQ(plain.distanceMin(), 0.0);
+  EXPECT_EQ(plain.encode(-1e-9), 0u);
+  EXPECT_TRUE(plain.hasSurface(0));
+}
+
 TEST(DistanceCodec, EveryWayOfReadingTheCodesAgrees) {
   for (const int bits : {8, 16}) {
     const ReliefModel m = convert(makeIcosphere(3), {.gridSize = 4, .texels = 5, .distanceBits = bits});
@@ -232,6 +338,7 @@ TEST(ModelFile, SaveThenLoadIsBitExact) {
   EXPECT_EQ(b.cellSizeWS, a.cellSizeWS);
   EXPECT_EQ(b.distanceCodec.distanceMax, a.distanceCodec.distanceMax);
   EXPECT_EQ(b.distanceCodec.bits, a.distanceCodec.bits);
+  EXPECT_EQ(b.distanceCodec.zeroCode, a.distanceCodec.zeroCode);
   ASSERT_EQ(b.cells.size(), a.cells.size());
   EXPECT_EQ(std::memcmp(b.cells.data(), a.cells.data(), a.cells.size() * sizeof(CellRecord)), 0);
   auto same = [](const auto& x, const auto& y) {
@@ -248,6 +355,14 @@ TEST(ModelFile, SaveThenLoadIsBitExact) {
   const ReliefModel c = convert(makeIcosphere(3), {.gridSize = 4, .texels = 5, .distanceBits = 8});
   writeRelief(c, dir / "c8.crm");
   EXPECT_TRUE(same(c.distances8, readRelief(dir / "c8.crm").distances8));
+  // A model with interior cells keeps distances before their faces: its zero code travels too.
+  const ReliefModel d = convert(makeIcosphere(4), {.gridSize = 8, .texels = 5});
+  ASSERT_GT(d.distanceCodec.zeroCode, 0u);
+  writeRelief(d, dir / "d.crm");
+  const ReliefModel e = readRelief(dir / "d.crm");
+  EXPECT_EQ(e.distanceCodec.zeroCode, d.distanceCodec.zeroCode);
+  EXPECT_EQ(e.distanceCodec.distanceMin(), d.distanceCodec.distanceMin());
+  EXPECT_TRUE(same(d.distances16, e.distances16));
 }
 
 void expectBadFile(const std::filesystem::path& path, const std::string& words) {
@@ -274,9 +389,12 @@ TEST(ModelFile, TruncatedCorruptedAndWrongVersionFilesAreRejected) {
   test::writeBytes(dir / "flipped.crm", flipped);
   expectBadFile(dir / "flipped.crm", "checksum mismatch");
   std::string version = bytes;
-  version[8] = 3;
-  test::writeBytes(dir / "v3.crm", version);
-  expectBadFile(dir / "v3.crm", "version 3, this build reads version 2");
+  version[8] = 4;
+  test::writeBytes(dir / "v4.crm", version);
+  expectBadFile(dir / "v4.crm", "version 4, this build reads version 3");
+  version[8] = 2;  // before the zero code: its distances would read shifted
+  test::writeBytes(dir / "v2.crm", version);
+  expectBadFile(dir / "v2.crm", "version 2, this build reads version 3");
   std::string magic = bytes;
   magic[0] = 'X';
   test::writeBytes(dir / "magic.crm", magic);
@@ -300,13 +418,13 @@ TEST(ModelFile, CraftedTablesWithAValidChecksumAreRejected) {
     std::memcpy(b.data() + b.size() - 4, &crc, 4);
   };
   std::string axis = bytes;
-  axis[112 + 6] = char(255);  // faceOrAxis of the first cell
+  axis[120 + 6] = char(255);  // faceOrAxis of the first cell
   recrc(axis);
   test::writeBytes(dir / "axis.crm", axis);
   expectBadFile(dir / "axis.crm", "corrupted look-up table at cell 0");
   std::string point = bytes;
   const float nan = std::nanf("");
-  std::memcpy(point.data() + 112 + 12, &nan, 4);
+  std::memcpy(point.data() + 120 + 12, &nan, 4);
   recrc(point);
   test::writeBytes(dir / "point.crm", point);
   expectBadFile(dir / "point.crm", "corrupted look-up table at cell 0");
@@ -316,6 +434,12 @@ TEST(ModelFile, CraftedTablesWithAValidChecksumAreRejected) {
   recrc(layers);
   test::writeBytes(dir / "layers.crm", layers);
   expectBadFile(dir / "layers.crm", "corrupted header");
+  std::string zero = bytes;
+  const std::uint32_t above = 40000;  // more than half the codes below zero: not a file we write
+  std::memcpy(zero.data() + 112, &above, 4);
+  recrc(zero);
+  test::writeBytes(dir / "zero.crm", zero);
+  expectBadFile(dir / "zero.crm", "corrupted header");
 }
 
 TEST(ModelFile, FailedWritesLeaveNothing) {

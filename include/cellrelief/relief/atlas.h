@@ -33,8 +33,8 @@ inline std::vector<std::filesystem::path> writeAtlases(const ReliefModel& model,
     for (int b = 0; b < T; ++b)
       for (int a = 0; a < T; ++a) {
         const std::uint32_t code = model.distanceCode(l, a, b);
-        if (model.distanceCodec.isEmpty(code)) continue;
-        const double nearness = 1.0 - double(code) / double(model.distanceCodec.maxCode());
+        if (!model.distanceCodec.hasSurface(code)) continue;
+        const double nearness = 1.0 - double(model.distance(l, a, b)) / double(model.distanceCodec.distanceMax);
         distance.at(origin(l).x + a, origin(l).y + b, 0) =
             std::uint16_t(std::lround(1024 + nearness * (65535 - 1024)));
       }
@@ -46,7 +46,7 @@ inline std::vector<std::filesystem::path> writeAtlases(const ReliefModel& model,
     for (int l = 0; l < layers; ++l)
       for (int b = 0; b < T; ++b)
         for (int a = 0; a < T; ++a) {
-          if (model.distanceCodec.isEmpty(model.distanceCode(l, a, b))) continue;
+          if (!model.distanceCodec.hasSurface(model.distanceCode(l, a, b))) continue;
           const Vec3f n = model.normal(l, a, b) * 0.5f + 0.5f;
           for (int c = 0; c < 3; ++c)
             normal.at(origin(l).x + a, origin(l).y + b, c) = quantizeUnorm<std::uint8_t>(n[c]);

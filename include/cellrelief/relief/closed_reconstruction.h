@@ -358,7 +358,7 @@ class SignalLookup {
     for (int y = std::max(0, b - kRadius); y <= std::min(last, b + kRadius); ++y)
       for (int x = std::max(0, a - kRadius); x <= std::min(last, a + kRadius); ++x) {
         const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
-        if (d2 < best && !mModel.distanceCodec.isEmpty(mModel.distanceCode(layer, x, y))) best = d2, bestA = x, bestB = y;
+        if (d2 < best && mModel.distanceCodec.hasSurface(mModel.distanceCode(layer, x, y))) best = d2, bestA = x, bestB = y;
       }
     if (bestA < 0) return false;
     if (mModel.normalFormat != NormalFormat::None) normal = mModel.normal(layer, bestA, bestB);

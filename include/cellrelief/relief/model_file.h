@@ -29,11 +29,12 @@
 namespace cellrelief::relief {
 
 inline constexpr char kReliefMagic[8] = {'C', 'E', 'L', 'L', 'R', 'E', 'L', 'F'};
-/// Version 2 adds the centre-inside bit (bit 30) of interior cells' packed coordinates.
-inline constexpr std::uint32_t kReliefFileVersion = 2;
+/// Version 2 added the centre-inside bit (bit 30) of interior cells' packed coordinates; version 3
+/// the distance codec's zero code (distances before a face, DistanceCodec).
+inline constexpr std::uint32_t kReliefFileVersion = 3;
 
 namespace detail {
-/// The fixed header, 112 bytes.
+/// The fixed header, 120 bytes.
 struct ReliefHeader {
   char magic[8];
   std::uint32_t version;
@@ -53,8 +54,10 @@ struct ReliefHeader {
   std::uint64_t distanceBytes;
   std::uint64_t normalBytes;
   std::uint64_t colorBytes;
+  std::uint32_t distanceZeroCode;
+  std::uint32_t reserved1;
 };
-static_assert(sizeof(ReliefHeader) == 112);
+static_assert(sizeof(ReliefHeader) == 120);
 static_assert(std::endian::native == std::endian::little,
               "the .crm format is little-endian and is read by copying host-order structs");
 
@@ -78,6 +81,7 @@ inline void writeRelief(const ReliefModel& model, const std::filesystem::path& p
   h.normalFormat = std::uint8_t(model.normalFormat);
   h.colorFormat = std::uint8_t(model.colorFormat);
   h.distanceMax = model.distanceCodec.distanceMax;
+  h.distanceZeroCode = model.distanceCodec.zeroCode;
   for (int a = 0; a < 3; ++a) h.originWS[a] = model.originWS[a];
   h.cellSizeWS = model.cellSizeWS;
   h.cellCount = model.cells.size();
@@ -112,7 +116,8 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
                     DistanceCodec::supports(h.distanceBits) && h.normalFormat <= 2 &&
                     h.colorFormat <= 1 && h.cellCount <= (1ull << 30) && layers <= 6 * h.cellCount &&
                     layers <= std::uint64_t(std::numeric_limits<int>::max()) &&
-                    std::isfinite(h.distanceMax) && h.distanceMax > 0 && h.cellSizeWS > 0;
+                    std::isfinite(h.distanceMax) && h.distanceMax > 0 && h.cellSizeWS > 0 &&
+                    h.distanceZeroCode <= DistanceCodec{.bits = h.distanceBits}.maxCode() / 2;
   if (!sane) fail("corrupted header (values out of range)");
   const std::uint64_t samples = layers * T * T;
   const std::uint64_t normalBytesPerSample =
@@ -126,7 +131,7 @@ inline ReliefModel readRelief(const std::filesystem::path& path) {
   ReliefModel m;
   m.gridSize = h.gridSize;
   m.texels = h.texels;
-  m.distanceCodec = {.bits = h.distanceBits, .distanceMax = h.distanceMax};
+  m.distanceCodec = {.bits = h.distanceBits, .distanceMax = h.distanceMax, .zeroCode = h.distanceZeroCode};
   m.normalFormat = NormalFormat(h.normalFormat);
   m.colorFormat = ColorFormat(h.colorFormat);
   m.originWS = Vec3d(h.originWS[0], h.originWS[1], h.originWS[2]);

@@ -69,7 +69,7 @@ inline TriangleMesh reconstructPerFace(const ReliefModel& model, int lod = 0) {
           const float d = model.distance(layer, a * step, b * step);
           std::int64_t& id = index[std::size_t(b) * S + a];
           id = -1;
-          if (std::isnan(d)) continue;
+          if (!model.distanceCodec.hasSurface(model.distanceCode(layer, a * step, b * step))) continue;
           const Vec2d uv(double(a * step) / (model.texels - 1), double(b * step) / (model.texels - 1));
           const Vec3d p = proj.unproject(f, uv, double(d));
           const bool onEdge = a == 0 || b == 0 || a == S - 1 || b == S - 1;

@@ -11,8 +11,9 @@
 /// A GPU samples it with texture coordinate (uv (T - 1) + 0.5) / T.
 ///
 /// Distances are in cell units (multiply by cellSizeWS for world units), quantized to 16 bits (or 8)
-/// over [0, distanceMax]; the largest code marks an empty sample (no surface projects there):
-/// DistanceCodec (distance_codec.h).
+/// over [0, distanceMax]; the largest code marks an empty sample (no surface projects there), and
+/// in interior cells codes below the zero code are distances before the face (where an empty
+/// line's continuation outside the cell meets the surface): DistanceCodec (distance_codec.h).
 /// Faces on which no surface projects get no layer at all.
 #pragma once
 
@@ -100,7 +101,7 @@ struct ReliefModel {
   Vec3d originWS{0};       ///< the bounding cube's minimum corner
   double cellSizeWS = 0;
   int texels = 0;          ///< T: samples per side of a face
-  DistanceCodec distanceCodec;  ///< 8 or 16 bits over [0, distanceMax] cell units
+  DistanceCodec distanceCodec;  ///< 8 or 16 bits over [distanceMin(), distanceMax] cell units
   NormalFormat normalFormat = NormalFormat::None;
   ColorFormat colorFormat = ColorFormat::None;
   std::vector<CellRecord> cells;    ///< sorted by (k, j, i)
@@ -135,7 +136,8 @@ struct ReliefModel {
   std::uint32_t distanceCode(int layer, int a, int b) const {
     return visitDistances([&](const auto& maps) -> std::uint32_t { return maps.at(a, b, layer, 0); });
   }
-  /// Distance in cell units at sample (a, b) of a layer; NaN when empty.
+  /// Distance in cell units at sample (a, b) of a layer; NaN when empty, negative before the face
+  /// (DistanceCodec::hasSurface tells a sample whose line met the surface).
   float distance(int layer, int a, int b) const { return distanceCodec.decode(distanceCode(layer, a, b)); }
   /// Largest error of the distance quantization, in cell units.
   double quantizationError() const { return distanceCodec.quantizationError(); }

@@ -110,13 +110,13 @@ struct CellRange {
   }
 };
 
-/// Calls visit(proj, face, layer, a, b, uv, distance) for every filled sample of a cell, with its
-/// projection in double (unit-cell coordinates) and the distance decoded.
+/// Calls visit(proj, face, layer, a, b, uv, distance) for every filled sample of a cell (one whose
+/// line met the surface, not empty and not before its face), with its projection in double
+/// (unit-cell coordinates) and the distance decoded.
 template <class Codes, class Visit>
 void forEachFilledSample(const ReliefModel& model, const Codes& codes, const CellRecord& record, Visit&& visit) {
   const int texels = model.texels;
-  const std::uint32_t empty = model.distanceCodec.emptyCode();
-  const double scale = model.distanceCodec.scale();
+  const DistanceCodec& codec = model.distanceCodec;
   record.projection<double>().visit([&](const auto& proj) {
     for (int f = 0; f < 6; ++f) {
       const int layer = record.layerOf(f);
@@ -124,22 +124,31 @@ void forEachFilledSample(const ReliefModel& model, const Codes& codes, const Cel
       for (int b = 0; b < texels; ++b)
         for (int a = 0; a < texels; ++a) {
           const std::uint32_t code = codes(layer, a, b);
-          if (code >= empty) continue;
-          visit(proj, f, layer, a, b, Vec2d(double(a) / (texels - 1), double(b) / (texels - 1)), double(code) * scale);
+          if (!codec.hasSurface(code)) continue;
+          visit(proj, f, layer, a, b, Vec2d(double(a) / (texels - 1), double(b) / (texels - 1)),
+                (double(code) - double(codec.zeroCode)) * codec.scale());
         }
     }
   });
 }
 
+/// The face points of the texels around a filled sample of an interior cell: its field can change
+/// sign over each of them (a neighbour before the face or empty reads as mixedTexel says).
+inline void extendByTexelsAround(Aabbd& box, int f, const Vec2d& uv, int texels) {
+  const double spacing = 1.0 / double(texels - 1);
+  box.extend(projection::facePoint(f, glm::max(uv - spacing, Vec2d(0))));
+  box.extend(projection::facePoint(f, glm::min(uv + spacing, Vec2d(1))));
+}
+
 /// The unit-cell box of one cell's filled samples: their surface points, and in interior cells
-/// their face points too.
+/// the face points of the texels around them too.
 template <class Codes>
 Aabbd cellSampleBounds(const ReliefModel& model, const Codes& codes, const CellRecord& record) {
   Aabbd box;
   const bool interior = record.configuration == 0;
   forEachFilledSample(model, codes, record, [&](const auto& proj, int f, int, int, int, const Vec2d& uv, double d) {
     box.extend(proj.unproject(f, uv, d));
-    if (interior) box.extend(projection::facePoint(f, uv));
+    if (interior) extendByTexelsAround(box, f, uv, model.texels);
   });
   return box;
 }
@@ -148,7 +157,7 @@ Aabbd cellSampleBounds(const ReliefModel& model, const Codes& codes, const CellR
 /// its filled samples; where a filled sample borders an empty one (in its layer, or, in a central
 /// cell with a domain face that has no layer, on its layer's edge), the line from its surface
 /// point to the line's end, for the field jumps there from "beyond the surface" to "no surface";
-/// in interior cells the filled samples' face points (mixedTexel). Grown by
+/// in interior cells the face points of the texels around filled samples (extendByTexelsAround). Grown by
 /// kSurfaceBoundsMarginSamples spacings.
 template <class Codes>
 Aabbd cellReachBox(const ReliefModel& model, const Codes& codes, const CellRecord& record) {
@@ -166,7 +175,7 @@ Aabbd cellReachBox(const ReliefModel& model, const Codes& codes, const CellRecor
     };
     const Vec3d onFace = projection::facePoint(f, uv);
     box.extend(proj.unproject(f, uv, d));
-    if (interior) box.extend(onFace);
+    if (interior) extendByTexelsAround(box, f, uv, texels);
     bool bordersEmpty = central && faceWithoutLayer && (a == 0 || b == 0 || a == texels - 1 || b == texels - 1);
     for (int db = -1; db <= 1 && !bordersEmpty; ++db)
       for (int da = -1; da <= 1 && !bordersEmpty; ++da) bordersEmpty = emptyAt(a + da, b + db);

@@ -58,7 +58,7 @@ class EmptySpacePyramid {
   }
   bool isEmptyCode(std::uint32_t c) const { return mCodec.isEmpty(c); }
   /// Distance (cell units) of a code, as ReliefModel::distance dequantizes it.
-  double toDistance(std::uint32_t c) const { return double(c) * mCodec.scale(); }
+  double toDistance(std::uint32_t c) const { return (double(c) - double(mCodec.zeroCode)) * mCodec.scale(); }
   std::size_t byteSize() const { return mCodes.size() * sizeof(std::uint16_t); }
 
  private:

@@ -30,6 +30,7 @@ struct PacketMaps {
   int texels = 0;
   float distanceScale = 0;  ///< cell units per code step
   float emptyCode = 0;      ///< the code of a line without surface
+  float zeroCode = 0;       ///< the code of distance 0 (DistanceCodec::zeroCode)
 };
 
 /// Up to kPacketLanes rays, each in a grey cell of its own or shared, all of one projection

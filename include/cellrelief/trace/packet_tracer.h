@@ -198,6 +198,7 @@ class ReliefPacketTracer {
     maps.texels = m.texels;
     maps.distanceScale = float(m.distanceCodec.scale());
     maps.emptyCode = float(m.distanceCodec.emptyCode());
+    maps.zeroCode = float(m.distanceCodec.zeroCode);
     return maps;
   }
 

@@ -181,7 +181,10 @@ class ReliefTracer {
   template <class Codes>
   std::optional<T> stored(const Codes& codes, int layer, const Vec2<T>& uv, bool emptyLinesCrossed = false) const;
 
-  /// A texel of an interior cell (case 0) with some but not all of its samples empty. An empty
+  /// A texel of an interior cell (case 0) with some but not all of its samples empty: a model
+  /// built without distances before the face (conversion stores them: convert.h,
+  /// sampleBeforeFaces, so its interior cells have no empty sample in a layer; the rule stays for
+  /// models made otherwise). Codes here are less the zero code. An empty
   /// line there lies wholly on the centre's side, so the surface crossed the face before it; a
   /// filled one, after its face point, at its distance. Read as empty, the whole texel took the
   /// centre's side, and the relief grew by up to a texel where the surface leaves the cell
@@ -380,6 +383,7 @@ class ReliefTracer {
   Vec3<T> mOrigin{0};
   T mCellSize = 1;
   T mDistanceScale = 0;
+  T mZeroCode = 0;  ///< DistanceCodec::zeroCode: codes below it are distances before the face
   EmptySpacePyramid mPyramid;
   bool mOpenModel = false;  ///< ReliefModel::openSurface(): no side carried across cell faces
   T mNearFace = 0;  ///< kNearFaceSamples sample spacings in cell units (crossesAtFace)

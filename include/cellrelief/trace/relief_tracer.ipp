@@ -19,6 +19,7 @@ ReliefTracer<T, Search>::ReliefTracer(const relief::ReliefModel& model, const Tr
   mOrigin = Vec3<T>(model.originWS);
   mCellSize = T(model.cellSizeWS);
   mDistanceScale = T(model.distanceCodec.scale());
+  mZeroCode = T(model.distanceCodec.zeroCode);
   if (options.skipEmptySpace) mPyramid = EmptySpacePyramid(model);
   mOpenModel = model.openSurface();
   mNearFace = T(constants::kNearFaceSamples) / T(model.texels - 1);
@@ -128,9 +129,10 @@ auto ReliefTracer<T, Search>::stored(const Codes& codes, int layer, const Vec2<T
   const int a0 = std::min(texels - 2, int(x)), b0 = std::min(texels - 2, int(y));
   const T fx = x - T(a0), fy = y - T(b0);
   const relief::DistanceCodec& codec = mModel.distanceCodec;
-  T c00 = T(codes(layer, a0, b0)), c10 = T(codes(layer, a0 + 1, b0));
-  T c01 = T(codes(layer, a0, b0 + 1)), c11 = T(codes(layer, a0 + 1, b0 + 1));
-  const T empty = T(codec.emptyCode());
+  // Codes less the zero code (exact in T): distances in code steps, negative before the face.
+  T c00 = T(codes(layer, a0, b0)) - mZeroCode, c10 = T(codes(layer, a0 + 1, b0)) - mZeroCode;
+  T c01 = T(codes(layer, a0, b0 + 1)) - mZeroCode, c11 = T(codes(layer, a0 + 1, b0 + 1)) - mZeroCode;
+  const T empty = T(codec.emptyCode()) - mZeroCode;
   const int emptyCount = int(c00 >= empty) + int(c10 >= empty) + int(c01 >= empty) + int(c11 >= empty);
   if (emptyCount > 0) {
     if (!emptyLinesCrossed || emptyCount == 4) return std::nullopt;
@@ -391,7 +393,7 @@ auto ReliefTracer<T, Search>::skipSearchFace(const Codes& codes, const relief::C
     sExit = std::max(sExit, s + kProgress);
     const std::uint32_t code = nodeCode(codes, layer, level, ix, iy);
     const T deepest = std::max(depthAt(s), depthAt(std::min(sExit, T(1))));
-    if (mPyramid.isEmptyCode(code) || deepest < T(code) * mDistanceScale) {
+    if (mPyramid.isEmptyCode(code) || deepest < (T(code) - mZeroCode) * mDistanceScale) {
       // No surface under the node, or all of it beyond the ray here: outside, unless the node
       // is empty in a cell with a hole's rim, where that tells no side.
       if (open && mPyramid.isEmptyCode(code)) {
@@ -411,10 +413,10 @@ auto ReliefTracer<T, Search>::skipSearchFace(const Codes& codes, const relief::C
     }
     // A texel cell: f(s) = depth(s) - bilinear(x(s), y(s)) is a quadratic in s.
     const T s1 = std::min(sExit, T(1));
-    const T d00 = T(codes(layer, ix, iy)) * mDistanceScale;
-    const T d10 = T(codes(layer, ix + 1, iy)) * mDistanceScale;
-    const T d01 = T(codes(layer, ix, iy + 1)) * mDistanceScale;
-    const T d11 = T(codes(layer, ix + 1, iy + 1)) * mDistanceScale;
+    const T d00 = (T(codes(layer, ix, iy)) - mZeroCode) * mDistanceScale;
+    const T d10 = (T(codes(layer, ix + 1, iy)) - mZeroCode) * mDistanceScale;
+    const T d01 = (T(codes(layer, ix, iy + 1)) - mZeroCode) * mDistanceScale;
+    const T d11 = (T(codes(layer, ix + 1, iy + 1)) - mZeroCode) * mDistanceScale;
     const T ax = x0 - T(ix), ay = y0 - T(iy);  // local coordinates at s = 0, slopes dx, dy
     const T e = d00 - d10 - d01 + d11;
     // bilinear = d00 + (d10 - d00) fx + (d01 - d00) fy + e fx fy with fx = ax + dx s, fy = ay + dy s
@@ -601,7 +603,7 @@ auto ReliefTracer<T, Search>::centralSkipFace(const Codes& codes, const P& proj,
       const int ya = iy * size, yb = std::min((iy + 1) * size, mModel.texels - 1);
       const T longest = std::sqrt(std::max({squaredLineLength(xa, ya), squaredLineLength(xb, ya),
                                             squaredLineLength(xa, yb), squaredLineLength(xb, yb)}));
-      skip = std::max(depthAt(t), depthAt(tExit)) * longest < T(code) * mDistanceScale;
+      skip = std::max(depthAt(t), depthAt(tExit)) * longest < (T(code) - mZeroCode) * mDistanceScale;
     }
     if (skip) {
       // No surface under the node, or all of it beyond the ray here: outside (f < 0).
@@ -700,14 +702,15 @@ auto ReliefTracer<T, Search>::shade(const Codes& codes, const P& proj, const rel
   int a = std::clamp(int(std::lround(hit.texel.x)), 0, texels - 1);
   int b = std::clamp(int(std::lround(hit.texel.y)), 0, texels - 1);
   // A hit at the rim of the surface's projection (a crossing found at a cell face or a texel
-  // edge) can round to an empty sample: shade from the nearest filled one within two samples.
-  if (mModel.distanceCodec.isEmpty(codes(layer, a, b))) {
+  // edge) can round to a sample without surface (empty, or before the face): shade from the
+  // nearest filled one within two samples.
+  if (!mModel.distanceCodec.hasSurface(codes(layer, a, b))) {
     int best = std::numeric_limits<int>::max(), bestA = a, bestB = b;
     const int radius = constants::kShadeSearchRadius;
     for (int y = std::max(0, b - radius); y <= std::min(texels - 1, b + radius); ++y)
       for (int x = std::max(0, a - radius); x <= std::min(texels - 1, a + radius); ++x) {
         const int d2 = (x - a) * (x - a) + (y - b) * (y - b);
-        if (d2 < best && !mModel.distanceCodec.isEmpty(codes(layer, x, y)))
+        if (d2 < best && mModel.distanceCodec.hasSurface(codes(layer, x, y)))
           best = d2, bestA = x, bestB = y;
       }
     a = bestA;
@@ -718,8 +721,8 @@ auto ReliefTracer<T, Search>::shade(const Codes& codes, const P& proj, const rel
   } else {
     auto point = [&](int x, int y) -> std::optional<Vec3d> {
       if (x < 0 || y < 0 || x >= texels || y >= texels) return std::nullopt;
+      if (!mModel.distanceCodec.hasSurface(codes(layer, x, y))) return std::nullopt;
       const double d = mModel.distance(layer, x, y);
-      if (std::isnan(d)) return std::nullopt;
       return Vec3d(proj.unproject(hit.face, Vec2<T>(T(x) / T(texels - 1), T(y) / T(texels - 1)), T(d)));
     };
     // Central differences where both neighbours exist, one-sided ones at the edge of the

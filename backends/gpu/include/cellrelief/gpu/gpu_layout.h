@@ -94,7 +94,7 @@ struct ModelInfo {
   std::int32_t pyramidLayerStride;
   std::int32_t layerCount;
   std::int32_t openSurface;  ///< ReliefModel::openSurface(): no side carried across cell faces
-  std::int32_t pad1;
+  std::int32_t zeroCode;  ///< DistanceCodec::zeroCode
   std::int32_t levelSize[kMaxPyramidLevels];
   std::int32_t levelOffset[kMaxPyramidLevels];
 };
@@ -262,6 +262,7 @@ inline GpuScene packScene(const render::Scene& scene, const DeviceLimits& limits
     const std::vector<relief::CellReach> reaches = relief::cellReaches(m);
     for (std::size_t c = 0; c < m.cells.size(); ++c) out.cells.push_back({m.cells[c], reaches[c]});
     info.emptyCode = int(m.distanceCodec.emptyCode());
+    info.zeroCode = int(m.distanceCodec.zeroCode);
     info.normalFormat = int(m.normalFormat);
     info.colorFormat = int(m.colorFormat);
     info.layerCount = m.layerCount();
