@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @file aabb.h
 /// Axis-aligned box and a robust ray/box slab test. Robust means: a ray parallel to a slab is
-/// decided by its origin (no 0 * inf = NaN), a ray starting on a face or grazing it hits (boxes are
+/// decided by its origin (its infinities, and the NaN of an origin on the slab's plane, never
+/// pass a comparison), a ray starting on a face or grazing it hits (boxes are
 /// closed), and the far distance is widened by roundingGamma(3) so that rounding never opens a gap
 /// between neighbouring cells during traversal (Ize, "Robust BVH Ray Traversal", JCGT 2013).
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -62,25 +64,48 @@ struct RayInterval {
   bool hit = false;
 };
 
-/// Slab test against the closed box. A direction component that is exactly zero is decided by the
-/// origin alone; otherwise the two slab distances are computed with the precomputed inverse.
+/// The slab test against closed boxes, set up once per ray for many boxes (a BVH's descent) and
+/// without branches. Each axis' near plane is chosen by the sign of the inverse direction; an axis
+/// the ray runs parallel to gives +-infinity (origin off the slab: no entry) or NaN (origin on a
+/// plane of it), which the comparisons ignore: inside the closed slab, no constraint. The far
+/// distance is widened by the rounding of its three operations, so a ray through an edge or a
+/// corner (or along a face) enters.
+template <Real T>
+class RaySlabs {
+ public:
+  explicit RaySlabs(const Ray<T>& ray) : mOrigin(ray.origin), mInv(ray.invDirection) {
+    for (int a = 0; a < 3; ++a) mNearIsMax[a] = std::signbit(mInv[a]);
+  }
+  /// Clips [tmin, tmax] to the box; whether anything is left (an entry at infinity is none).
+  bool clip(const Aabb<T>& box, T& tmin, T& tmax) const {
+    constexpr T kFarMargin = T(1) + 2 * roundingGamma<T>(3);
+    for (int a = 0; a < 3; ++a) {
+      const T nearPlane = mNearIsMax[a] ? box.max[a] : box.min[a];
+      const T farPlane = mNearIsMax[a] ? box.min[a] : box.max[a];
+      const T tNear = (nearPlane - mOrigin[a]) * mInv[a];
+      const T tFar = (farPlane - mOrigin[a]) * mInv[a] * kFarMargin;
+      tmin = tNear > tmin ? tNear : tmin;
+      tmax = tFar < tmax ? tFar : tmax;
+    }
+    return tmin <= tmax && tmin < std::numeric_limits<T>::infinity();
+  }
+  /// Whether the ray meets `box` within [tmin, tmax]; entry: where it enters.
+  bool enters(const Aabb<T>& box, T tmin, T tmax, T& entry) const {
+    const bool inside = clip(box, tmin, tmax);
+    entry = tmin;
+    return inside;
+  }
+
+ private:
+  Vec3<T> mOrigin, mInv;
+  bool mNearIsMax[3];
+};
+
+/// Entry and exit of a ray through the closed box within [ray.tmin, ray.tmax] (RaySlabs).
 template <Real T>
 RayInterval<T> intersect(const Ray<T>& ray, const Aabb<T>& box) {
-  T t0 = ray.tmin;
-  T t1 = ray.tmax;
-  for (int a = 0; a < 3; ++a) {
-    if (ray.direction[a] == T(0)) {
-      if (ray.origin[a] < box.min[a] || ray.origin[a] > box.max[a]) return {};
-      continue;
-    }
-    T tNear = (box.min[a] - ray.origin[a]) * ray.invDirection[a];
-    T tFar = (box.max[a] - ray.origin[a]) * ray.invDirection[a];
-    if (tNear > tFar) std::swap(tNear, tFar);
-    tFar *= T(1) + 2 * roundingGamma<T>(3);
-    t0 = tNear > t0 ? tNear : t0;
-    t1 = tFar < t1 ? tFar : t1;
-    if (t0 > t1) return {};
-  }
+  T t0 = ray.tmin, t1 = ray.tmax;
+  if (!RaySlabs<T>(ray).clip(box, t0, t1)) return {};
   return {t0, t1, true};
 }
 

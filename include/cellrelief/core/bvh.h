@@ -126,7 +126,7 @@ class BoxBvh {
   template <class Visit>
   void traverse(const Ray<T>& ray, T& tmax, Visit&& visit) const {
     if (mNodes.empty()) return;
-    const RaySlabs slabs(ray);
+    const RaySlabs<T> slabs(ray);
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
@@ -152,7 +152,7 @@ class BoxBvh {
   template <class Visit>
   void traverseNearFirst(const Ray<T>& ray, T& tmax, Visit&& visit) const {
     if (mNodes.empty()) return;
-    const RaySlabs slabs(ray);
+    const RaySlabs<T> slabs(ray);
     const auto enters = [&](const Node& node, T& entry) { return slabs.enters(node.box, ray.tmin, tmax, entry); };
     std::pair<T, std::uint32_t> stack[64];
     int top = 0;
@@ -239,36 +239,6 @@ class BoxBvh {
   }
 
  private:
-  /// A ray set up once for the many box tests of a descent: the slab test of intersect() (the
-  /// same planes, products and rounding margin, so the same boxes are entered) without its
-  /// branches. Each axis' near plane is chosen by the sign of the inverse direction; an axis the
-  /// ray runs parallel to gives +-infinity (origin off the slab: no entry) or NaN (origin on a
-  /// plane of it), which the comparisons below ignore: inside the closed slab, no constraint.
-  class RaySlabs {
-   public:
-    explicit RaySlabs(const Ray<T>& ray) : mOrigin(ray.origin), mInv(ray.invDirection) {
-      for (int a = 0; a < 3; ++a) mNearIsMax[a] = std::signbit(mInv[a]);
-    }
-    /// Whether the ray meets `box` within [tmin, tmax]; entry: where it enters.
-    bool enters(const Aabb<T>& box, T tmin, T tmax, T& entry) const {
-      constexpr T kFarMargin = T(1) + 2 * roundingGamma<T>(3);
-      for (int a = 0; a < 3; ++a) {
-        const T nearPlane = mNearIsMax[a] ? box.max[a] : box.min[a];
-        const T farPlane = mNearIsMax[a] ? box.min[a] : box.max[a];
-        const T tNear = (nearPlane - mOrigin[a]) * mInv[a];
-        const T tFar = (farPlane - mOrigin[a]) * mInv[a] * kFarMargin;
-        tmin = tNear > tmin ? tNear : tmin;
-        tmax = tFar < tmax ? tFar : tmax;
-      }
-      entry = tmin;
-      return tmin <= tmax;
-    }
-
-   private:
-    Vec3<T> mOrigin, mInv;
-    bool mNearIsMax[3];
-  };
-
   /// A primitive while the tree is built: its centroid travels with its id, so the split reads
   /// contiguous memory instead of gathering a centroid per comparison (the same comparisons in
   /// the same order as on the ids alone, so the same tree).
@@ -338,23 +308,33 @@ class NextHitSearch {
     mResult.first.t = tmax;
   }
 
-  /// Takes a triangle's hit; returns how far hits still matter.
+  /// Takes a triangle's hit; returns how far hits still matter. The nearest recorded hit past
+  /// after(first) is kept as hits come, and found again among the recorded ones only when the
+  /// first hit moves nearer (which moves after(first) too).
   T take(const Hit<T>& hit) {
-    if (hit.t < mResult.first.t) mResult.first = hit;
-    if (mCount < kCapacity) mFound[mCount++] = hit.t;
+    const bool recorded = mCount < kCapacity;
+    if (recorded) mFound[mCount++] = hit.t;
     else mOverflow = true;
+    if (hit.t < mResult.first.t) {
+      mResult.first = hit;
+      mNearestNext = nearestNext();
+    } else if (recorded && qualifies(hit.t)) {
+      mNearestNext = std::min(mNearestNext, hit.t);
+    }
     return bound();
   }
 
-  /// The answer; `anyHitFrom(t)` is the separate query for a hit in [t, within), asked only
-  /// when hits were not all recorded and none recorded answers.
-  template <class AnyHitFrom>
-  FirstAndNextHit<T> result(AnyHitFrom&& anyHitFrom) {
+  /// The answer for `ray`; `surface.anyHit` over [after(first), within) is asked only when hits
+  /// were not all recorded and none recorded answers.
+  template <class Surface>
+  FirstAndNextHit<T> result(const Ray<T>& ray, const Surface& surface) const {
     FirstAndNextHit<T> out = mResult;
-    out.next = nearestNext() < mWithin;
+    out.next = mNearestNext < mWithin;
     if (!out.next && mOverflow && out.first.valid()) {
-      const T from = mAfter(out.first.t);
-      out.next = from < mWithin && anyHitFrom(from);
+      Ray<T> rest = ray;
+      rest.tmin = mAfter(out.first.t);
+      rest.tmax = mWithin;
+      out.next = rest.tmin < mWithin && surface.anyHit(rest);
     }
     if (!out.first.valid()) out.first.t = std::numeric_limits<T>::infinity();
     return out;
@@ -363,23 +343,22 @@ class NextHitSearch {
  private:
   static constexpr int kCapacity = 16;
 
+  bool qualifies(T t) const { return t >= mAfter(mResult.first.t) && t < mWithin; }
   T nearestNext() const {
-    if (!mResult.first.valid()) return std::numeric_limits<T>::infinity();
-    const T from = mAfter(mResult.first.t);
     T nearest = std::numeric_limits<T>::infinity();
     for (int i = 0; i < mCount; ++i)
-      if (mFound[i] >= from && mFound[i] < mWithin) nearest = std::min(nearest, mFound[i]);
+      if (qualifies(mFound[i])) nearest = std::min(nearest, mFound[i]);
     return nearest;
   }
   T bound() const {
-    const T next = nearestNext();
-    if (next < mWithin) return next;
+    if (mNearestNext < mWithin) return mNearestNext;
     return std::min(mTmax, std::max(mResult.first.t, mWithin));
   }
 
   T mTmax, mWithin;
   const After& mAfter;
   FirstAndNextHit<T> mResult;
+  T mNearestNext = std::numeric_limits<T>::infinity();  ///< the nearest recorded hit past after(first)
   T mFound[kCapacity];
   int mCount = 0;
   bool mOverflow = false;
@@ -495,12 +474,7 @@ class TriangleBvh {
       if (intersectPrim(ray, i, hit, Faces::Both)) limit = search.take(hit);
       return false;
     });
-    return search.result([&](T from) {
-      Ray<T> rest = ray;
-      rest.tmin = from;
-      rest.tmax = within;
-      return anyHit(rest);
-    });
+    return search.result(ray, *this);
   }
 
  private:
@@ -586,12 +560,7 @@ class TrianglesInBox {
       hit.t = limit;
       if (intersect(ray, plane.slot, hit)) limit = search.take(hit);
     }
-    return search.result([&](T from) {
-      Ray<T> rest = ray;
-      rest.tmin = from;
-      rest.tmax = within;
-      return anyHit(rest);
-    });
+    return search.result(ray, *this);
   }
   std::size_t triangleCount() const { return mWholeTree ? mBvh.triangleCount() : mPlanes.size(); }
 

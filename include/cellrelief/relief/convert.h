@@ -283,24 +283,39 @@ inline double beforeFace(int T) { return kBeforeFaceSamples / (T - 1); }
 
 /// Gives every empty sample of an interior cell's present faces the negative distance at which
 /// the line's continuation outwards meets the surface, or -beforeFace(T) when it meets none that
-/// near (kBeforeFaceSamples). Signals are sampled at the hits, as for the lines' own hits.
-inline void sampleBeforeFaces(const TriangleMesh& mesh, const MeshRayQuery& query, const ConvertOptions& options,
+/// near (kBeforeFaceSamples). Only samples next to a filled one (of the 8 around it) are cast:
+/// a texel without a filled corner reads the centre's side all over whatever its corners hold,
+/// so the others take the limit. Signals are sampled at the hits, as for the lines' own hits.
+/// `near`: the triangles that meet the cell's box grown by beforeFace(T) cells.
+inline void sampleBeforeFaces(const TriangleMesh& mesh, const TrianglesInBox<double>& near, const ConvertOptions& options,
                               const Signals& signals, const Vec3d& cellMin, double h, int T, CellSamples& out) {
   const double reach = beforeFace(T);
+  std::vector<char> nextToFilled(std::size_t(T) * T);
   int slot = 0;
   for (int f = 0; f < cells::kFaceCount; ++f) {
     if (!(out.proj.domainFaces() & (1u << f))) continue;
     const std::size_t first = std::size_t(slot++) * T * T;
     if (!(out.present & (1u << f))) continue;
+    std::fill(nextToFilled.begin(), nextToFilled.end(), 0);
+    for (int b = 0; b < T; ++b)
+      for (int a = 0; a < T; ++a) {
+        if (std::isnan(out.distance[first + std::size_t(b) * T + a])) continue;
+        for (int y = std::max(0, b - 1); y <= std::min(T - 1, b + 1); ++y)
+          for (int x = std::max(0, a - 1); x <= std::min(T - 1, a + 1); ++x) nextToFilled[std::size_t(y) * T + x] = 1;
+      }
     for (int b = 0; b < T; ++b)
       for (int a = 0; a < T; ++a) {
         const std::size_t k = first + std::size_t(b) * T + a;
         if (!std::isnan(out.distance[k])) continue;
+        if (!nextToFilled[std::size_t(b) * T + a]) {
+          out.distance[k] = float(-reach);
+          continue;
+        }
         const Vec3d onFace = projection::facePoint(f, Vec2d(double(a) / (T - 1), double(b) / (T - 1)));
         const double length = glm::length(out.proj.lineEnd(f, onFace) - onFace);
         const Rayd line = projectionLine(out.proj, f, onFace, cellMin, h);
-        const Hitd hit = query.bvh.closestHit(Rayd(line.origin, -line.direction, 0.0, reach / length));
-        out.distance[k] = float(-(hit.valid() ? hit.t : reach / length) * length);
+        const Hitd hit = near.closestHit(Rayd(line.origin, -line.direction, 0.0, reach / length));
+        out.distance[k] = float(hit.valid() ? -hit.t * length : -reach);
         if (hit.valid())
           sampleSignals(mesh, signals, options, hit, signals.normals ? &out.normal[k] : nullptr,
                         signals.colors ? &out.color[k] : nullptr);
@@ -348,7 +363,9 @@ inline CellSamples sampleCell(const TriangleMesh& mesh, const cells::CellComplex
   }
   if (cell.configuration == 0) {
     out.centreInside = query.contains(cellMin + h * out.proj.point);
-    sampleBeforeFaces(mesh, query, options, signals, cellMin, h, T, out);
+    const Vec3d before(h * beforeFace(T));
+    sampleBeforeFaces(mesh, TrianglesInBox<double>(query.bvh, Aabbd(box.min - before, box.max + before)), options,
+                      signals, cellMin, h, T, out);
   }
   return out;
 }
