@@ -719,20 +719,28 @@ auto ReliefTracer<T, Search>::shade(const Codes& codes, const P& proj, const rel
   if (mModel.normalFormat != relief::NormalFormat::None) {
     hit.normal = mModel.normal(layer, a, b);
   } else {
+    const relief::DistanceCodec& codec = mModel.distanceCodec;
     auto point = [&](int x, int y) -> std::optional<Vec3d> {
       if (x < 0 || y < 0 || x >= texels || y >= texels) return std::nullopt;
-      if (!mModel.distanceCodec.hasSurface(codes(layer, x, y))) return std::nullopt;
-      const double d = mModel.distance(layer, x, y);
+      const std::uint32_t code = codes(layer, x, y);
+      if (!codec.hasSurface(code)) return std::nullopt;
+      const double d = codec.decode(code);
       return Vec3d(proj.unproject(hit.face, Vec2<T>(T(x) / T(texels - 1), T(y) / T(texels - 1)), T(d)));
     };
     // Central differences where both neighbours exist, one-sided ones at the edge of the
-    // surface; none (the caller's reverse ray direction) when the sample stands alone.
-    const auto centre = point(a, b);
+    // surface; none (the caller's reverse ray direction) when the sample stands alone. The
+    // centre is unprojected only for a one-sided difference (most hits have both neighbours).
+    std::optional<Vec3d> centre;
+    bool centreRead = false;
+    auto centrePoint = [&]() -> const std::optional<Vec3d>& {
+      if (!centreRead) centre = point(a, b), centreRead = true;
+      return centre;
+    };
     auto derivative = [&](int dx, int dy) -> std::optional<Vec3d> {
       const auto plus = point(a + dx, b + dy), minus = point(a - dx, b - dy);
       if (plus && minus) return *plus - *minus;
-      if (plus && centre) return *plus - *centre;
-      if (minus && centre) return *centre - *minus;
+      if (plus && centrePoint()) return *plus - *centrePoint();
+      if (minus && centrePoint()) return *centrePoint() - *minus;
       return std::nullopt;
     };
     const auto du = derivative(1, 0), dv = derivative(0, 1);
