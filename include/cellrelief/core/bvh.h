@@ -343,11 +343,13 @@ class NextHitSearch {
  private:
   static constexpr int kCapacity = 16;
 
-  bool qualifies(T t) const { return t >= mAfter(mResult.first.t) && t < mWithin; }
+  bool qualifies(T t, T from) const { return t >= from && t < mWithin; }
+  bool qualifies(T t) const { return qualifies(t, mAfter(mResult.first.t)); }
   T nearestNext() const {
+    const T from = mAfter(mResult.first.t);
     T nearest = std::numeric_limits<T>::infinity();
     for (int i = 0; i < mCount; ++i)
-      if (qualifies(mFound[i])) nearest = std::min(nearest, mFound[i]);
+      if (qualifies(mFound[i], from)) nearest = std::min(nearest, mFound[i]);
     return nearest;
   }
   T bound() const {

@@ -34,7 +34,7 @@ inline std::vector<std::filesystem::path> writeAtlases(const ReliefModel& model,
       for (int a = 0; a < T; ++a) {
         const std::uint32_t code = model.distanceCode(l, a, b);
         if (!model.distanceCodec.hasSurface(code)) continue;
-        const double nearness = 1.0 - double(model.distance(l, a, b)) / double(model.distanceCodec.distanceMax);
+        const double nearness = 1.0 - double(model.distanceCodec.decode(code)) / double(model.distanceCodec.distanceMax);
         distance.at(origin(l).x + a, origin(l).y + b, 0) =
             std::uint16_t(std::lround(1024 + nearness * (65535 - 1024)));
       }

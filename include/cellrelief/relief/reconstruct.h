@@ -66,10 +66,11 @@ inline TriangleMesh reconstructPerFace(const ReliefModel& model, int lod = 0) {
       if (layer < 0) continue;
       for (int b = 0; b < S; ++b)
         for (int a = 0; a < S; ++a) {
-          const float d = model.distance(layer, a * step, b * step);
+          const std::uint32_t code = model.distanceCode(layer, a * step, b * step);
           std::int64_t& id = index[std::size_t(b) * S + a];
           id = -1;
-          if (!model.distanceCodec.hasSurface(model.distanceCode(layer, a * step, b * step))) continue;
+          if (!model.distanceCodec.hasSurface(code)) continue;
+          const float d = model.distanceCodec.decode(code);
           const Vec2d uv(double(a * step) / (model.texels - 1), double(b * step) / (model.texels - 1));
           const Vec3d p = proj.unproject(f, uv, double(d));
           const bool onEdge = a == 0 || b == 0 || a == S - 1 || b == S - 1;
@@ -80,7 +81,7 @@ inline TriangleMesh reconstructPerFace(const ReliefModel& model, int lod = 0) {
                 (std::uint64_t(std::lround(onFace.x * (model.texels - 1))) << 48) ^
                 (std::uint64_t(std::lround(onFace.y * (model.texels - 1))) << 32) ^
                 (std::uint64_t(std::lround(onFace.z * (model.texels - 1))) << 16) ^
-                std::uint64_t(model.distanceCode(layer, a * step, b * step));
+                std::uint64_t(code);
             const auto [it, inserted] = welded.try_emplace(key, std::uint32_t(part.positions.size()));
             if (!inserted) {
               id = it->second;
